@@ -1,0 +1,86 @@
+//! Cameras: Babylon.js `LookAtLH` view with a `PerspectiveFovLH` or `OrthoLH` projection.
+
+use crate::format::SceneCamera;
+use crate::math::{look_at_lh, orthographic_lh, perspective_lh, Mat4, Vec3};
+
+/// A camera: view and projection matrices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// World to view space.
+    pub view: Mat4,
+    /// View to clip space.
+    pub projection: Mat4,
+    /// Eye position in world space (for point lights and specular).
+    pub eye: Vec3,
+}
+
+/// Why a camera could not be built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CameraError {
+    /// `eye == target`, or the view direction is parallel to +y, or a value is not finite.
+    BadLookAt,
+    /// Field of view not in (0, pi), aspect <= 0, near <= 0 (perspective) or far <= near.
+    BadProjection,
+}
+
+impl core::fmt::Display for CameraError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            CameraError::BadLookAt => "camera: eye equals target, looks straight up/down, or is not finite",
+            CameraError::BadProjection => "camera: field of view, aspect, near or far out of range",
+        })
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for CameraError {}
+
+impl Camera {
+    /// A perspective camera at `eye` looking at `target` (up = +y) with vertical field of view
+    /// `fov_y` (radians), `aspect` = width / height, and clip distances `near` < `far`.
+    ///
+    /// # Errors
+    /// [`CameraError`] for a degenerate look-at or out-of-range projection values.
+    pub fn perspective(eye: Vec3, target: Vec3, fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Self, CameraError> {
+        let ok = fov_y > 0.0 && fov_y < core::f32::consts::PI && aspect > 0.0 && near > 0.0 && far > near && far.is_finite() && aspect.is_finite();
+        if !ok {
+            return Err(CameraError::BadProjection);
+        }
+        let view = look_at(eye, target)?;
+        Ok(Camera { view, projection: perspective_lh(fov_y, aspect, near, far), eye })
+    }
+
+    /// An orthographic camera showing a `width` x `height` (world units) window.
+    ///
+    /// # Errors
+    /// [`CameraError`] for a degenerate look-at or out-of-range values.
+    pub fn orthographic(eye: Vec3, target: Vec3, width: f32, height: f32, near: f32, far: f32) -> Result<Self, CameraError> {
+        let ok = width > 0.0 && height > 0.0 && far > near && (far - near).is_finite() && width.is_finite() && height.is_finite();
+        if !ok {
+            return Err(CameraError::BadProjection);
+        }
+        let view = look_at(eye, target)?;
+        Ok(Camera { view, projection: orthographic_lh(width, height, near, far), eye })
+    }
+
+    /// The camera stored in a scene, for a frame of the given aspect ratio.
+    ///
+    /// # Errors
+    /// [`CameraError`] when the stored camera is degenerate.
+    pub fn from_scene(c: &SceneCamera, aspect: f32) -> Result<Self, CameraError> {
+        Self::perspective(c.position, c.target, c.fov, aspect, c.near, c.far)
+    }
+
+    /// `projection · view`: world to clip space.
+    #[must_use]
+    pub fn view_projection(&self) -> Mat4 {
+        self.projection * self.view
+    }
+}
+
+fn look_at(eye: Vec3, target: Vec3) -> Result<Mat4, CameraError> {
+    if !eye.is_finite() || !target.is_finite() {
+        return Err(CameraError::BadLookAt);
+    }
+    look_at_lh(eye, target, Vec3::Y).ok_or(CameraError::BadLookAt)
+}

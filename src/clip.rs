@@ -1,0 +1,142 @@
+//! Homogeneous clipping against the near and far planes and the guard band.
+//!
+//! A triangle that crosses a plane is cut to the polygon the plane leaves (at most 3 + 6
+//! vertices, in a fixed-capacity buffer) and drawn as a fan; one wholly outside any view
+//! plane is rejected. The x/y planes are the guard band's, not the viewport's, so triangles
+//! that merely overlap the screen edge are not cut (the rasterizer's bounding box does that).
+
+use heapless::Vec;
+
+use crate::math::Vec4;
+use crate::raster::MAX_VARYINGS;
+
+/// A vertex in clip space with its varyings (in f32 before fixed-point conversion).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClipVertex {
+    /// Clip-space position `(x, y, z, w)`.
+    pub pos: Vec4,
+    /// Attributes interpolated across the triangle.
+    pub varyings: [f32; MAX_VARYINGS],
+}
+
+/// The most vertices a clipped triangle can have (3 plus one per plane).
+pub const MAX_CLIPPED: usize = 9;
+
+/// A clipped polygon.
+pub type Polygon = Vec<ClipVertex, MAX_CLIPPED>;
+
+/// What clipping did to a triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ClipResult {
+    /// Entirely inside the guard band and depth range: draw as is.
+    Inside,
+    /// Cut by at least one plane: draw the polygon.
+    Clipped,
+    /// Nothing visible (outside a view plane, or a non-finite coordinate).
+    Outside,
+}
+
+/// Guard-band half extents in clip units: `|x| <= gx·w`, `|y| <= gy·w`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Planes {
+    /// Horizontal guard band, >= 1.
+    pub gx: f32,
+    /// Vertical guard band, >= 1.
+    pub gy: f32,
+}
+
+impl Planes {
+    /// Signed distances (inside >= 0) to the six clipping planes.
+    #[inline]
+    fn distances(&self, p: Vec4) -> [f32; 6] {
+        [p.z + p.w, p.w - p.z, self.gx * p.w + p.x, self.gx * p.w - p.x, self.gy * p.w + p.y, self.gy * p.w - p.y]
+    }
+}
+
+/// Whether all three points are outside one of the *viewport* planes (or near/far): such a
+/// triangle cannot cover any pixel.
+#[inline]
+#[must_use]
+pub fn outside_view(p: [Vec4; 3]) -> bool {
+    let out = |f: fn(Vec4) -> f32| p.iter().all(|&v| f(v) < 0.0);
+    out(|v| v.z + v.w) || out(|v| v.w - v.z) || out(|v| v.w + v.x) || out(|v| v.w - v.x) || out(|v| v.w + v.y) || out(|v| v.w - v.y)
+}
+
+/// Clips triangle `tri` into `out`.
+pub fn clip_triangle(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) -> ClipResult {
+    out.clear();
+    let finite = tri.iter().all(|v| v.pos.is_finite() && v.varyings.iter().all(|a| a.is_finite()));
+    if !finite || outside_view([tri[0].pos, tri[1].pos, tri[2].pos]) {
+        return ClipResult::Outside;
+    }
+    let d: [[f32; 6]; 3] = core::array::from_fn(|i| planes.distances(tri[i].pos));
+    if d.iter().all(|di| di.iter().all(|&x| x >= 0.0)) {
+        return ClipResult::Inside;
+    }
+    let mut a: Polygon = tri.iter().copied().collect();
+    for plane in 0..6 {
+        let mut b = Polygon::new();
+        clip_polygon(&a, &mut b, |v| planes.distances(v.pos)[plane]);
+        a = b;
+        if a.len() < 3 {
+            return ClipResult::Outside;
+        }
+    }
+    *out = a;
+    ClipResult::Clipped
+}
+
+/// One Sutherland–Hodgman pass. New vertices are always interpolated from the inside vertex
+/// towards the outside one, so two triangles sharing an edge get the same cut point.
+fn clip_polygon(input: &Polygon, output: &mut Polygon, dist: impl Fn(&ClipVertex) -> f32) {
+    for (i, a) in input.iter().enumerate() {
+        let b = &input[(i + 1) % input.len()];
+        let (da, db) = (dist(a), dist(b));
+        if da >= 0.0 {
+            // Capacity: each pass adds at most one vertex, and we start with 3 of 9.
+            let _ = output.push(*a);
+        }
+        if (da >= 0.0) != (db >= 0.0) {
+            let (inside, outside, di, dout) = if da >= 0.0 { (a, b, da, db) } else { (b, a, db, da) };
+            let t = di / (di - dout);
+            let _ = output.push(lerp(inside, outside, t));
+        }
+    }
+}
+
+fn lerp(a: &ClipVertex, b: &ClipVertex, t: f32) -> ClipVertex {
+    ClipVertex {
+        pos: a.pos + (b.pos - a.pos) * t,
+        varyings: core::array::from_fn(|k| a.varyings[k] + (b.varyings[k] - a.varyings[k]) * t),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: f32, y: f32, z: f32, w: f32) -> ClipVertex {
+        ClipVertex { pos: Vec4::new(x, y, z, w), varyings: [0.0; MAX_VARYINGS] }
+    }
+
+    #[test]
+    fn near_plane_cuts_one_vertex_behind() {
+        let planes = Planes { gx: 4.0, gy: 4.0 };
+        let mut out = Polygon::new();
+        // Vertex 2 is behind the eye (w < 0): the near plane z >= -w keeps a quad.
+        let tri = [v(0.0, 0.0, 0.5, 1.0), v(0.5, 0.0, 0.5, 1.0), v(0.0, 0.5, -2.0, -1.0)];
+        assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Clipped);
+        assert_eq!(out.len(), 4);
+        assert!(out.iter().all(|p| p.pos.z + p.pos.w >= -1e-6 && p.pos.w > 0.0));
+    }
+
+    #[test]
+    fn nan_and_fully_behind_are_outside() {
+        let planes = Planes { gx: 4.0, gy: 4.0 };
+        let mut out = Polygon::new();
+        let tri = [v(f32::NAN, 0.0, 0.5, 1.0), v(0.5, 0.0, 0.5, 1.0), v(0.0, 0.5, 0.5, 1.0)];
+        assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Outside);
+        let tri = [v(0.0, 0.0, -2.0, -1.0), v(0.5, 0.0, -2.0, -1.0), v(0.0, 0.5, -2.0, -1.0)];
+        assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Outside);
+    }
+}

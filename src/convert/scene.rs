@@ -1,0 +1,179 @@
+//! The converter's in-memory scene: what a `.babylon` file means once every Babylon.js rule
+//! (hierarchy, rotations, texture matrices, UV origin) has been applied. `format::emit`
+//! writes it as `.s3d`; the `.babylon` reader produces it.
+
+use std::string::String;
+use std::vec::Vec;
+
+/// A row-vector 4x4 matrix in Babylon.js layout: `m[12..15]` is the translation,
+/// `p' = [x y z 1] · m`.
+pub type Matrix = [f32; 16];
+
+/// The identity [`Matrix`].
+pub const IDENTITY: Matrix = [
+    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+];
+
+/// A whole converted scene.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Scene {
+    /// Geometry, each with the world transform of the mesh itself.
+    pub meshes: Vec<MeshData>,
+    /// Materials referenced by sub-meshes.
+    pub materials: Vec<MaterialData>,
+    /// Decoded textures referenced by materials.
+    pub textures: Vec<TextureData>,
+    /// Extra copies of meshes with their own world transform (`instances`).
+    pub instances: Vec<InstanceData>,
+    /// Scene lights.
+    pub lights: Vec<LightData>,
+    /// The active camera, when the file has one.
+    pub camera: Option<CameraData>,
+}
+
+/// One mesh: indexed triangles in the mesh's local space plus its world matrix.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshData {
+    /// The mesh's `name` (or `id`).
+    pub name: String,
+    /// Local-to-world matrix, parents already applied.
+    pub world: Matrix,
+    /// Local-space positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Local-space unit normals, one per position (computed smooth normals when the file has none).
+    pub normals: Vec<[f32; 3]>,
+    /// Texture coordinates, one per position, texture matrix and UV origin already applied:
+    /// (0,0) is the bottom-left of the image. `None` when the mesh has no UVs.
+    pub uvs: Option<Vec<[f32; 2]>>,
+    /// Vertex colours RGBA in 0..=1, one per position, when the file has them.
+    pub colors: Option<Vec<[f32; 4]>>,
+    /// Triangle list, three indices per triangle, each `< positions.len()`.
+    pub indices: Vec<u32>,
+    /// Ranges of `indices` drawn with one material (at least one, covering all indices).
+    pub submeshes: Vec<SubMeshData>,
+}
+
+/// A range of a mesh's indices drawn with one material.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SubMeshData {
+    /// Index into [`Scene::materials`], or `None` for the default material.
+    pub material: Option<u16>,
+    /// First index (a multiple of 3).
+    pub index_start: u32,
+    /// Number of indices (a multiple of 3).
+    pub index_count: u32,
+}
+
+/// How texture coordinates outside 0..1 are folded back.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    /// Clamp to the edge texel (Babylon `wrapU = 0`).
+    Clamp,
+    /// Repeat (Babylon's default, `wrapU = 1`); negative coordinates repeat too.
+    #[default]
+    Repeat,
+    /// Mirror every other repetition (Babylon `wrapU = 2`).
+    Mirror,
+}
+
+/// A material: StandardMaterial's diffuse or PBR's albedo.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaterialData {
+    /// The material's name.
+    pub name: String,
+    /// Diffuse (albedo) colour, linear 0..=1 as stored in the file.
+    pub diffuse: [f32; 3],
+    /// Opacity 0..=1.
+    pub alpha: f32,
+    /// Whether back faces are culled (Babylon's default: true).
+    pub back_face_culling: bool,
+    /// Index into [`Scene::textures`].
+    pub texture: Option<u16>,
+    /// Horizontal wrap mode.
+    pub wrap_u: Wrap,
+    /// Vertical wrap mode.
+    pub wrap_v: Wrap,
+}
+
+impl Default for MaterialData {
+    fn default() -> Self {
+        Self {
+            name: String::new(),
+            diffuse: [1.0; 3],
+            alpha: 1.0,
+            back_face_culling: true,
+            texture: None,
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+        }
+    }
+}
+
+/// A decoded texture, RGBA8, rows from the top of the image file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TextureData {
+    /// The file name (or a description for embedded images).
+    pub name: String,
+    /// Width in texels (>= 1).
+    pub width: u16,
+    /// Height in texels (>= 1).
+    pub height: u16,
+    /// `width * height * 4` bytes, RGBA, row 0 = top row of the image file.
+    pub rgba: Vec<u8>,
+}
+
+impl TextureData {
+    /// True when some texel is not fully opaque (the texture needs a cut-out format).
+    #[must_use]
+    pub fn has_alpha(&self) -> bool {
+        self.rgba.chunks_exact(4).any(|t| t[3] != 255)
+    }
+}
+
+/// Another placement of a mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InstanceData {
+    /// Index into [`Scene::meshes`].
+    pub mesh: u16,
+    /// The instance's local-to-world matrix.
+    pub world: Matrix,
+}
+
+/// Light types, numbered as in `.babylon` files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightKind {
+    /// Type 0: from a position, no distance falloff.
+    Point = 0,
+    /// Type 1: along a direction.
+    Directional = 1,
+    /// Type 3: sky/ground ambient (`vector` is the up direction).
+    Hemispheric = 3,
+}
+
+/// A light source.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightData {
+    /// The light type.
+    pub kind: LightKind,
+    /// World position (point) or direction (directional, hemispheric).
+    pub vector: [f32; 3],
+    /// Diffuse colour 0..=1.
+    pub diffuse: [f32; 3],
+    /// Intensity multiplier (Babylon default 1).
+    pub intensity: f32,
+}
+
+/// The scene's active camera.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraData {
+    /// Eye position in world space.
+    pub position: [f32; 3],
+    /// Point looked at.
+    pub target: [f32; 3],
+    /// Vertical field of view in radians.
+    pub fov: f32,
+    /// Near clip distance (`minZ`).
+    pub near: f32,
+    /// Far clip distance (`maxZ`).
+    pub far: f32,
+}

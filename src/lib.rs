@@ -1,0 +1,51 @@
+//! # soft3d
+//!
+//! A `no_std`, allocation-free 3D software rasterizer for microcontrollers. It draws textured,
+//! lit, z-buffered triangle meshes into colour and depth slices that the caller owns, band by
+//! band, from meshes stored in the compact [`format`] (`.s3d`) read in place from flash.
+//!
+//! ## Conventions (written once, used everywhere)
+//! These follow Babylon.js (see `spec/babylon-conventions.md` in the repository):
+//! - **Handedness**: left-handed, +x right, +y up, +z forward (away from an unrotated camera).
+//! - **Matrices**: row vectors, `clip = [x y z 1] · World · View · Projection`. In code we use
+//!   glam's column-major [`glam::Mat4`]; a Babylon `m[16]` is exactly `Mat4::from_cols_array`,
+//!   and `p · M` is `M.transpose() * p`, which glam writes as `M.transpose().mul_vec4(p)`;
+//!   to keep that in one place, [`math::Affine`] and [`math::Matrix`] wrap it.
+//! - **Projection**: `PerspectiveFovLH` with a vertical field of view; NDC z in [-1, 1].
+//! - **Viewport**: `x_px = (x_ndc + 1) · W/2`, `y_px = (1 - y_ndc) · H/2` (y down); pixel
+//!   (column c, row r) is sampled at its centre `(c + 0.5, r + 0.5)`.
+//! - **Snapping**: screen positions are snapped to 1/16 pixel (28.4 fixed point) before
+//!   coverage is decided.
+//! - **Fill rule**: a pixel centre exactly on an edge belongs to the triangle for which that
+//!   edge is a *left* edge, or a *bottom* horizontal edge, as seen in the picture.
+//! - **Front faces**: counter-clockwise with y up (clockwise in the y-down picture). A world
+//!   matrix with negative determinant flips this.
+//! - **Depth**: the stored depth is NDC z mapped to [0, 1] (`(z/w + 1) / 2`), which is affine in
+//!   screen space, so interpolating it linearly across the screen is exact. `u16` buffers hold
+//!   it scaled to `0..=65535`; the test is LEQUAL (smaller is nearer).
+//! - **Textures**: uv (0, 0) is the bottom-left of the image; image row from the top is
+//!   `(1 - v) · H`.
+#![no_std]
+#![deny(missing_docs)]
+#![forbid(unsafe_code)]
+
+#[cfg(feature = "std")]
+extern crate std;
+
+pub mod camera;
+pub mod clip;
+pub mod format;
+pub mod math;
+pub mod raster;
+pub mod render;
+pub mod shade;
+pub mod target;
+
+pub use camera::Camera;
+pub use format::{Model, ParseError};
+pub use render::{draw_model, Mode, RenderOptions, Shading, Stats};
+pub use shade::{Filter, Lights};
+pub use target::{Band, DepthBuffer, FrameColor, NoDepth, Rgb565Be};
+
+#[cfg(feature = "convert")]
+pub mod convert;

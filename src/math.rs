@@ -1,0 +1,159 @@
+//! The one place where soft3d does floating-point maths.
+//!
+//! Every transcendental function goes through [`libm`] explicitly, and glam is built with its
+//! `libm` and `scalar-math` features, so a host test and a Cortex-M build evaluate the same
+//! operations in the same order and get bit-identical results. (Calling `x.sin()` in a
+//! `no_std` crate silently picks std's version whenever std is linked, which differs.)
+//!
+//! Matrices are glam's column-major [`Mat4`] acting on column vectors. A Babylon.js row-vector
+//! matrix `m[16]` is the same 16 numbers: `Mat4::from_cols_array(&m)` is the transform that
+//! Babylon writes `p · M`, and Babylon's `A · B` (A first) is glam's `B * A`.
+
+pub use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+
+/// Square root (libm).
+#[inline]
+#[must_use]
+pub fn sqrt(x: f32) -> f32 {
+    libm::sqrtf(x)
+}
+
+/// Sine (libm).
+#[inline]
+#[must_use]
+pub fn sin(x: f32) -> f32 {
+    libm::sinf(x)
+}
+
+/// Cosine (libm).
+#[inline]
+#[must_use]
+pub fn cos(x: f32) -> f32 {
+    libm::cosf(x)
+}
+
+/// Tangent (libm).
+#[inline]
+#[must_use]
+pub fn tan(x: f32) -> f32 {
+    libm::tanf(x)
+}
+
+/// Largest integer value not greater than `x` (libm).
+#[inline]
+#[must_use]
+pub fn floor(x: f32) -> f32 {
+    libm::floorf(x)
+}
+
+/// `v / |v|`, or zero for a zero or non-finite vector.
+#[inline]
+#[must_use]
+pub fn normalize_or_zero(v: Vec3) -> Vec3 {
+    let len2 = v.dot(v);
+    if len2 > 0.0 && len2.is_finite() {
+        v * (1.0 / sqrt(len2))
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// Babylon's `LookAtLH` view matrix (up = +y): world to camera space, camera looking along +z.
+///
+/// Returns `None` when `eye == target` or the view direction is parallel to `up`.
+#[must_use]
+pub fn look_at_lh(eye: Vec3, target: Vec3, up: Vec3) -> Option<Mat4> {
+    let z = normalize_or_zero(target - eye);
+    let x = normalize_or_zero(up.cross(z));
+    if z == Vec3::ZERO || x == Vec3::ZERO {
+        return None;
+    }
+    let y = z.cross(x);
+    // Rows of Babylon's matrix are x, y, z axes as columns; glam stores columns.
+    Some(Mat4::from_cols(
+        Vec4::new(x.x, y.x, z.x, 0.0),
+        Vec4::new(x.y, y.y, z.y, 0.0),
+        Vec4::new(x.z, y.z, z.z, 0.0),
+        Vec4::new(-x.dot(eye), -y.dot(eye), -z.dot(eye), 1.0),
+    ))
+}
+
+/// Babylon's `PerspectiveFovLH`: vertical field of view `fov_y` (radians), `aspect` = width /
+/// height; maps view z in `[near, far]` to NDC z in `[-1, 1]` and puts view z in clip w.
+#[must_use]
+pub fn perspective_lh(fov_y: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
+    let t = 1.0 / tan(fov_y * 0.5);
+    let a = (far + near) / (far - near);
+    let b = -2.0 * far * near / (far - near);
+    Mat4::from_cols(
+        Vec4::new(t / aspect, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, t, 0.0, 0.0),
+        Vec4::new(0.0, 0.0, a, 1.0),
+        Vec4::new(0.0, 0.0, b, 0.0),
+    )
+}
+
+/// Babylon's `OrthoLH` for a view volume `width` x `height` centred on the view axis, mapping
+/// view z in `[near, far]` to NDC z in `[-1, 1]` (clip w = 1).
+#[must_use]
+pub fn orthographic_lh(width: f32, height: f32, near: f32, far: f32) -> Mat4 {
+    Mat4::from_cols(
+        Vec4::new(2.0 / width, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, 2.0 / height, 0.0, 0.0),
+        Vec4::new(0.0, 0.0, 2.0 / (far - near), 0.0),
+        Vec4::new(0.0, 0.0, -(far + near) / (far - near), 1.0),
+    )
+}
+
+/// The matrix that transforms normals: the inverse-transpose of `m`'s 3x3 part (never `m`
+/// itself, which skews normals under non-uniform scale). Zero for a singular matrix.
+#[must_use]
+pub fn normal_matrix(m: &Mat4) -> Mat3 {
+    let m3 = Mat3::from_mat4(*m);
+    let det = m3.determinant();
+    if det == 0.0 || !det.is_finite() {
+        return Mat3::ZERO;
+    }
+    m3.inverse().transpose()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn babylon_rotation_y_matches_spec() {
+        // Spec: Ry(a) = [c 0 -s; 0 1 0; s 0 c] in row-vector form, so (1,0,0) -> (c, 0, -s).
+        let m = Mat4::from_rotation_y(0.5);
+        let p = m.transform_point3(Vec3::X);
+        assert!((p - Vec3::new(cos(0.5), 0.0, -sin(0.5))).length() < 1e-6);
+    }
+
+    #[test]
+    fn look_at_puts_target_in_front() {
+        let v = look_at_lh(Vec3::new(0.0, 0.0, -4.0), Vec3::ZERO, Vec3::Y).unwrap();
+        let p = v.transform_point3(Vec3::ZERO);
+        assert_eq!(p, Vec3::new(0.0, 0.0, 4.0));
+        let right = v.transform_point3(Vec3::X);
+        assert!(right.x > 0.0, "left-handed: +x stays right");
+    }
+
+    #[test]
+    fn perspective_maps_near_far_to_ndc() {
+        let p = perspective_lh(0.8, 1.0, 0.5, 10.0);
+        let near = p * Vec4::new(0.0, 0.0, 0.5, 1.0);
+        let far = p * Vec4::new(0.0, 0.0, 10.0, 1.0);
+        assert!((near.z / near.w + 1.0).abs() < 1e-6);
+        assert!((far.z / far.w - 1.0).abs() < 1e-6);
+        assert_eq!(near.w, 0.5);
+    }
+
+    #[test]
+    fn normal_matrix_keeps_normals_perpendicular_under_scale() {
+        let m = Mat4::from_scale(Vec3::new(4.0, 1.0, 1.0));
+        // A plane x + y = 0 has normal (1,1,0); scaling x by 4 turns the plane into x/4 + y = 0.
+        let n = normal_matrix(&m) * Vec3::new(1.0, 1.0, 0.0);
+        let tangent = m.transform_vector3(Vec3::new(1.0, -1.0, 0.0));
+        assert!(n.dot(tangent).abs() < 1e-6);
+    }
+}

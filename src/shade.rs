@@ -1,0 +1,252 @@
+//! Lighting (per vertex or per face, f32) and texture sampling (per pixel, integers).
+//!
+//! The light model is Babylon.js's StandardMaterial diffuse term with specular off:
+//! `colour = clamp(ambient + Σ max(0, N·L) · light.diffuse · intensity, 0, 1) · diffuse · texture`
+//! with `L = -direction` (directional), `L = normalize(position - P)` (point, no falloff) and
+//! hemispheric lights contributing `(0.5 + 0.5 N·up) · diffuse · intensity` (ground colour black).
+//! Lighting only ever scales red, green and blue: alpha is never touched.
+
+use heapless::Vec;
+
+use crate::format::{Light, LightKind, Model, Texture, TextureFormat, Wrap};
+use crate::math::{normalize_or_zero, Vec3};
+
+/// Ambient light plus up to `N` lights.
+#[derive(Clone, Debug, Default)]
+pub struct Lights<const N: usize> {
+    /// Ambient colour added to every surface (0..=1 per channel).
+    pub ambient: Vec3,
+    /// The lights.
+    pub lights: Vec<Light, N>,
+}
+
+impl<const N: usize> Lights<N> {
+    /// No lights and no ambient: everything lit renders black, so prefer [`Lights::from_model`].
+    #[must_use]
+    pub fn new(ambient: Vec3) -> Self {
+        Self { ambient, lights: Vec::new() }
+    }
+
+    /// Adds a light; hands it back when all `N` places are taken.
+    ///
+    /// # Errors
+    /// The light, when the set is full.
+    pub fn push(&mut self, light: Light) -> Result<(), Light> {
+        self.lights.push(light)
+    }
+
+    /// A directional light shining along `direction`.
+    #[must_use]
+    pub fn directional(direction: Vec3, intensity: f32) -> Light {
+        Light { kind: LightKind::Directional, vector: direction, diffuse: Vec3::ONE, intensity }
+    }
+
+    /// A point light at `position` (no falloff).
+    #[must_use]
+    pub fn point(position: Vec3, intensity: f32) -> Light {
+        Light { kind: LightKind::Point, vector: position, diffuse: Vec3::ONE, intensity }
+    }
+
+    /// The model's lights (the first `N`), no ambient. A scene without lights gets Babylon's
+    /// default: a hemispheric light from +y.
+    #[must_use]
+    pub fn from_model(model: &Model<'_>) -> Self {
+        let mut set = Self::new(Vec3::ZERO);
+        for l in model.lights() {
+            if set.push(l).is_err() {
+                break;
+            }
+        }
+        if set.lights.is_empty() {
+            let _ = set.push(Light { kind: LightKind::Hemispheric, vector: Vec3::Y, diffuse: Vec3::ONE, intensity: 1.0 });
+        }
+        set
+    }
+
+    /// Light reaching a surface at `p` with unit normal `n`, each channel clamped to 0..=1.
+    #[must_use]
+    pub fn at(&self, p: Vec3, n: Vec3) -> Vec3 {
+        let mut sum = self.ambient;
+        for l in &self.lights {
+            let k = match l.kind {
+                LightKind::Directional => n.dot(normalize_or_zero(-l.vector)).max(0.0),
+                LightKind::Point => n.dot(normalize_or_zero(l.vector - p)).max(0.0),
+                LightKind::Hemispheric => 0.5 + 0.5 * n.dot(normalize_or_zero(l.vector)),
+            };
+            sum += l.diffuse * (k * l.intensity);
+        }
+        sum.clamp(Vec3::ZERO, Vec3::ONE)
+    }
+}
+
+/// Texture filtering.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Filter {
+    /// The texel under the sample point: `i = floor(u · W)`.
+    #[default]
+    Nearest,
+    /// Blend of the four texels around `(u · W - 0.5, v · H - 0.5)`.
+    Bilinear,
+}
+
+/// One wrapped axis of a texture.
+#[derive(Clone, Copy, Debug)]
+struct Axis {
+    size: i32,
+    wrap: Wrap,
+}
+
+impl Axis {
+    /// Folds texel coordinate `i` into `0..size`.
+    #[inline]
+    fn fold(self, i: i32) -> i32 {
+        match self.wrap {
+            Wrap::Repeat => {
+                if self.size & (self.size - 1) == 0 {
+                    i & (self.size - 1)
+                } else {
+                    i.rem_euclid(self.size)
+                }
+            }
+            Wrap::Clamp => i.clamp(0, self.size - 1),
+            Wrap::Mirror => {
+                let m = i.rem_euclid(2 * self.size);
+                if m >= self.size {
+                    2 * self.size - 1 - m
+                } else {
+                    m
+                }
+            }
+        }
+    }
+}
+
+/// Samples a texture with texel coordinates in 16.16 fixed point (`u · W · 65536`).
+#[derive(Clone, Copy, Debug)]
+pub struct Sampler<'a> {
+    texture: Texture<'a>,
+    u: Axis,
+    v: Axis,
+    filter: Filter,
+}
+
+impl<'a> Sampler<'a> {
+    /// A sampler for `texture` with the given wrap modes and filter.
+    #[must_use]
+    pub fn new(texture: Texture<'a>, wrap_u: Wrap, wrap_v: Wrap, filter: Filter) -> Self {
+        Sampler {
+            u: Axis { size: texture.width as i32, wrap: wrap_u },
+            v: Axis { size: texture.height as i32, wrap: wrap_v },
+            texture,
+            filter,
+        }
+    }
+
+    /// Texture width in texels.
+    #[must_use]
+    pub fn width(&self) -> u16 {
+        self.texture.width
+    }
+
+    /// Texture height in texels.
+    #[must_use]
+    pub fn height(&self) -> u16 {
+        self.texture.height
+    }
+
+    /// Whether the texture has an alpha channel (cut-outs).
+    #[must_use]
+    pub fn has_alpha(&self) -> bool {
+        self.texture.format.has_alpha()
+    }
+
+    #[inline]
+    fn texel(&self, i: i32, j: i32) -> [u8; 4] {
+        let (i, j) = (self.u.fold(i) as usize, self.v.fold(j) as usize);
+        let t = &self.texture;
+        let at = j * t.width as usize + i;
+        let b = t.texels;
+        match t.format {
+            TextureFormat::Rgb565 | TextureFormat::Rgba5551 => match b.get(2 * at..2 * at + 2) {
+                Some(s) => crate::format::decode_texel(t.format, s),
+                None => [0; 4],
+            },
+            TextureFormat::Rgb888 => match b.get(3 * at..3 * at + 3) {
+                Some(s) => [s[0], s[1], s[2], 255],
+                None => [0; 4],
+            },
+            TextureFormat::Rgba8888 => match b.get(4 * at..4 * at + 4) {
+                Some(s) => [s[0], s[1], s[2], s[3]],
+                None => [0; 4],
+            },
+        }
+    }
+
+    /// RGBA at texel coordinates `(u, v)` in 16.16 (v counted from the bottom row).
+    #[inline]
+    #[must_use]
+    pub fn sample(&self, u: i32, v: i32) -> [u8; 4] {
+        match self.filter {
+            Filter::Nearest => self.texel(u >> 16, v >> 16),
+            Filter::Bilinear => {
+                let (u, v) = (u.wrapping_sub(1 << 15), v.wrapping_sub(1 << 15));
+                let (i, j) = (u >> 16, v >> 16);
+                let (fu, fv) = (((u >> 8) & 255) as u32, ((v >> 8) & 255) as u32);
+                let t00 = self.texel(i, j);
+                let t10 = self.texel(i + 1, j);
+                let t01 = self.texel(i, j + 1);
+                let t11 = self.texel(i + 1, j + 1);
+                core::array::from_fn(|k| {
+                    let bottom = t00[k] as u32 * (256 - fu) + t10[k] as u32 * fu;
+                    let top = t01[k] as u32 * (256 - fu) + t11[k] as u32 * fu;
+                    ((bottom * (256 - fv) + top * fv + (1 << 15)) >> 16) as u8
+                })
+            }
+        }
+    }
+}
+
+/// `c · light` per channel with `light` in 16.16 (1.0 = 65536), rounded, clamped to 255.
+#[inline]
+#[must_use]
+pub fn modulate(c: [u8; 3], light: [i32; 3]) -> [u8; 3] {
+    core::array::from_fn(|k| {
+        let l = light[k].clamp(0, 1 << 16) as u32;
+        ((c[k] as u32 * l + (1 << 15)) >> 16) as u8
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tex(texels: &[u8], w: u16, h: u16) -> Texture<'_> {
+        Texture { width: w, height: h, format: TextureFormat::Rgba8888, texels }
+    }
+
+    #[test]
+    fn negative_uvs_repeat_not_mirror() {
+        // A 4x1 texture with texel values 0, 1, 2, 3 in red.
+        let data: [u8; 16] = [0, 0, 0, 255, 1, 0, 0, 255, 2, 0, 0, 255, 3, 0, 0, 255];
+        let s = Sampler::new(tex(&data, 4, 1), Wrap::Repeat, Wrap::Repeat, Filter::Nearest);
+        // u = -0.1 -> u·W = -0.4 -> floor -1 -> repeats to texel 3 (abs(u % w) would give 0).
+        assert_eq!(s.sample((-0.4 * 65536.0) as i32, 0)[0], 3);
+        assert_eq!(s.sample(5 << 16, 0)[0], 1);
+        let m = Sampler::new(tex(&data, 4, 1), Wrap::Mirror, Wrap::Repeat, Filter::Nearest);
+        assert_eq!(m.sample(4 << 16, 0)[0], 3);
+        assert_eq!(m.sample(-(1 << 16), 0)[0], 0);
+        let c = Sampler::new(tex(&data, 4, 1), Wrap::Clamp, Wrap::Repeat, Filter::Nearest);
+        assert_eq!(c.sample(-(7 << 16), 0)[0], 0);
+        assert_eq!(c.sample(9 << 16, 0)[0], 3);
+        // Non-power-of-two widths wrap too.
+        let odd = Sampler::new(tex(&data[..12], 3, 1), Wrap::Repeat, Wrap::Repeat, Filter::Nearest);
+        assert_eq!(odd.sample(-(1 << 16), 0)[0], 2);
+    }
+
+    #[test]
+    fn modulate_keeps_white_and_black() {
+        assert_eq!(modulate([255, 128, 0], [1 << 16; 3]), [255, 128, 0]);
+        assert_eq!(modulate([255, 128, 0], [0; 3]), [0, 0, 0]);
+        assert_eq!(modulate([255, 255, 255], [1 << 15; 3]), [128, 128, 128]);
+    }
+}

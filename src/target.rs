@@ -1,0 +1,356 @@
+//! Render targets: the caller's colour and depth slices for one band of the frame.
+//!
+//! A band is `rows` full-width rows starting at `first_row` of a `width` x `height` frame;
+//! a whole frame is the band with `first_row = 0` and `rows = height`. The renderer only ever
+//! writes inside the slices given here.
+
+use core::fmt;
+
+use embedded_graphics_core::pixelcolor::{BinaryColor, Gray8, GrayColor, Rgb565, Rgb888, RgbColor};
+
+/// The largest frame width or height. Screen positions are kept in 28.4 fixed point with a
+/// guard band of [`GUARD_HALF_EXTENT`] pixels around the frame centre; larger frames would not
+/// fit it.
+pub const MAX_DIMENSION: u16 = 1536;
+
+/// Half the guard band's size in pixels: geometry is clipped to within this distance of the
+/// frame centre, so any triangle's edge functions fit in `i32` (see `raster`).
+pub const GUARD_HALF_EXTENT: f32 = 960.0;
+
+/// A pixel colour soft3d can render into, converted from 8-bit RGB without dynamic dispatch.
+pub trait FrameColor: Copy {
+    /// Converts from 8-bit RGB (rounding to nearest).
+    fn from_rgb888(rgb: [u8; 3]) -> Self;
+    /// Converts to 8-bit RGB.
+    fn to_rgb888(self) -> [u8; 3];
+}
+
+/// `v` (0..=255) scaled to `0..=max`, rounded to nearest.
+#[inline]
+fn narrow(v: u8, max: u32) -> u8 {
+    ((v as u32 * max + 127) / 255) as u8
+}
+
+/// `v` (0..=max) scaled to 0..=255, rounded to nearest.
+#[inline]
+fn widen(v: u8, max: u32) -> u8 {
+    ((v as u32 * 255 + max / 2) / max) as u8
+}
+
+/// Rec. 601 luma of 8-bit RGB, in 0..=255.
+#[inline]
+#[must_use]
+pub fn luma(rgb: [u8; 3]) -> u8 {
+    ((rgb[0] as u32 * 77 + rgb[1] as u32 * 150 + rgb[2] as u32 * 29 + 128) >> 8) as u8
+}
+
+impl FrameColor for Rgb888 {
+    #[inline]
+    fn from_rgb888(rgb: [u8; 3]) -> Self {
+        Rgb888::new(rgb[0], rgb[1], rgb[2])
+    }
+    #[inline]
+    fn to_rgb888(self) -> [u8; 3] {
+        [self.r(), self.g(), self.b()]
+    }
+}
+
+impl FrameColor for Rgb565 {
+    #[inline]
+    fn from_rgb888(rgb: [u8; 3]) -> Self {
+        Rgb565::new(narrow(rgb[0], 31), narrow(rgb[1], 63), narrow(rgb[2], 31))
+    }
+    #[inline]
+    fn to_rgb888(self) -> [u8; 3] {
+        [widen(self.r(), 31), widen(self.g(), 63), widen(self.b(), 31)]
+    }
+}
+
+impl FrameColor for Gray8 {
+    #[inline]
+    fn from_rgb888(rgb: [u8; 3]) -> Self {
+        Gray8::new(luma(rgb))
+    }
+    #[inline]
+    fn to_rgb888(self) -> [u8; 3] {
+        [self.luma(); 3]
+    }
+}
+
+impl FrameColor for BinaryColor {
+    #[inline]
+    fn from_rgb888(rgb: [u8; 3]) -> Self {
+        BinaryColor::from(luma(rgb) >= 128)
+    }
+    #[inline]
+    fn to_rgb888(self) -> [u8; 3] {
+        if self.is_on() {
+            [255; 3]
+        } else {
+            [0; 3]
+        }
+    }
+}
+
+/// RGB565 stored big-endian in memory, as most SPI displays (ST7789, ILI9341) want it: a
+/// band of these can go to the display's DMA as it is.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Rgb565Be(pub [u8; 2]);
+
+impl FrameColor for Rgb565Be {
+    #[inline]
+    fn from_rgb888(rgb: [u8; 3]) -> Self {
+        let c = Rgb565::from_rgb888(rgb);
+        let v = (c.r() as u16) << 11 | (c.g() as u16) << 5 | c.b() as u16;
+        Rgb565Be(v.to_be_bytes())
+    }
+    #[inline]
+    fn to_rgb888(self) -> [u8; 3] {
+        let v = u16::from_be_bytes(self.0);
+        Rgb565::new((v >> 11) as u8, ((v >> 5) & 63) as u8, (v & 31) as u8).to_rgb888()
+    }
+}
+
+/// A depth buffer for one band. Depth values arrive as 0..=2^30 (near..far, see the crate's
+/// conventions); the test is LEQUAL.
+pub trait DepthBuffer {
+    /// Number of entries (must equal the colour slice's length), or `None` for no buffer.
+    fn depth_len(&self) -> Option<usize>;
+    /// Whether depth `z` passes the LEQUAL test at entry `i` (false outside the buffer).
+    fn passes(&self, i: usize, z: u32) -> bool;
+    /// Stores `z` at entry `i` (ignored outside the buffer).
+    fn store(&mut self, i: usize, z: u32);
+    /// Sets every entry to the far plane.
+    fn clear_depth(&mut self);
+}
+
+/// Depth as `u16`: `z >> 14` (0 = near plane, 65535 = far plane).
+impl DepthBuffer for &mut [u16] {
+    #[inline]
+    fn depth_len(&self) -> Option<usize> {
+        Some(self.len())
+    }
+    #[inline]
+    fn passes(&self, i: usize, z: u32) -> bool {
+        self.get(i).is_some_and(|&d| z_to_u16(z) <= d)
+    }
+    #[inline]
+    fn store(&mut self, i: usize, z: u32) {
+        if let Some(d) = self.get_mut(i) {
+            *d = z_to_u16(z);
+        }
+    }
+    fn clear_depth(&mut self) {
+        self.fill(u16::MAX);
+    }
+}
+
+/// Depth as `f32` in 0.0 (near) ..= 1.0 (far).
+impl DepthBuffer for &mut [f32] {
+    #[inline]
+    fn depth_len(&self) -> Option<usize> {
+        Some(self.len())
+    }
+    #[inline]
+    fn passes(&self, i: usize, z: u32) -> bool {
+        self.get(i).is_some_and(|&d| z_to_f32(z) <= d)
+    }
+    #[inline]
+    fn store(&mut self, i: usize, z: u32) {
+        if let Some(d) = self.get_mut(i) {
+            *d = z_to_f32(z);
+        }
+    }
+    fn clear_depth(&mut self) {
+        self.fill(1.0);
+    }
+}
+
+#[inline]
+fn z_to_u16(z: u32) -> u16 {
+    (z >> 14).min(u16::MAX as u32) as u16
+}
+
+#[inline]
+fn z_to_f32(z: u32) -> f32 {
+    z as f32 * (1.0 / (1u32 << 30) as f32)
+}
+
+/// No depth buffer: every fragment passes (use painter's order or a single convex mesh).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoDepth;
+
+impl DepthBuffer for NoDepth {
+    #[inline]
+    fn depth_len(&self) -> Option<usize> {
+        None
+    }
+    #[inline]
+    fn passes(&self, _: usize, _: u32) -> bool {
+        true
+    }
+    #[inline]
+    fn store(&mut self, _: usize, _: u32) {}
+    fn clear_depth(&mut self) {}
+}
+
+/// Why a [`Band`] could not be made from the given slices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TargetError {
+    /// Width or height is 0 or above [`MAX_DIMENSION`].
+    BadSize {
+        /// Requested width.
+        width: u16,
+        /// Requested height.
+        height: u16,
+    },
+    /// The colour slice is empty or not a whole number of rows.
+    ColorLength {
+        /// The slice's length.
+        len: usize,
+        /// The frame width.
+        width: u16,
+    },
+    /// The band's rows do not fit in the frame.
+    BandOutsideFrame {
+        /// First row of the band.
+        first_row: u16,
+        /// Rows in the band.
+        rows: usize,
+        /// Frame height.
+        height: u16,
+    },
+    /// The depth slice's length differs from the colour slice's.
+    DepthLength {
+        /// Depth entries given.
+        depth: usize,
+        /// Colour entries given.
+        color: usize,
+    },
+}
+
+impl fmt::Display for TargetError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            TargetError::BadSize { width, height } => {
+                write!(f, "frame size {width}x{height} outside 1..={MAX_DIMENSION}")
+            }
+            TargetError::ColorLength { len, width } => {
+                write!(f, "colour slice of {len} pixels is not a whole number of {width}-pixel rows")
+            }
+            TargetError::BandOutsideFrame { first_row, rows, height } => {
+                write!(f, "band rows {first_row}..{} outside a frame of {height} rows", first_row as usize + rows)
+            }
+            TargetError::DepthLength { depth, color } => {
+                write!(f, "depth slice has {depth} entries but colour slice has {color}")
+            }
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for TargetError {}
+
+/// One horizontal band of a frame: the caller's colour slice plus a depth buffer.
+pub struct Band<'a, C, D> {
+    pub(crate) color: &'a mut [C],
+    pub(crate) depth: D,
+    pub(crate) width: u16,
+    pub(crate) height: u16,
+    pub(crate) first_row: u16,
+    pub(crate) rows: u16,
+}
+
+impl<'a, C: FrameColor, D: DepthBuffer> Band<'a, C, D> {
+    /// A band of `color.len() / width` rows starting at `first_row` of a `width` x `height`
+    /// frame. For a whole frame pass `first_row = 0` and slices of `width * height`.
+    ///
+    /// # Errors
+    /// [`TargetError`] when the size is out of range or a slice's length does not fit.
+    pub fn new(color: &'a mut [C], depth: D, width: u16, height: u16, first_row: u16) -> Result<Self, TargetError> {
+        if width == 0 || height == 0 || width > MAX_DIMENSION || height > MAX_DIMENSION {
+            return Err(TargetError::BadSize { width, height });
+        }
+        let len = color.len();
+        if len == 0 || len % width as usize != 0 {
+            return Err(TargetError::ColorLength { len, width });
+        }
+        let rows = len / width as usize;
+        if first_row as usize + rows > height as usize {
+            return Err(TargetError::BandOutsideFrame { first_row, rows, height });
+        }
+        if let Some(depth_len) = depth.depth_len() {
+            if depth_len != len {
+                return Err(TargetError::DepthLength { depth: depth_len, color: len });
+            }
+        }
+        Ok(Band { color, depth, width, height, first_row, rows: rows as u16 })
+    }
+
+    /// Fills the colour slice with `c` and resets depth to the far plane.
+    pub fn clear(&mut self, c: C) {
+        self.color.fill(c);
+        self.depth.clear_depth();
+    }
+
+    /// Frame width in pixels.
+    #[must_use]
+    pub fn width(&self) -> u16 {
+        self.width
+    }
+
+    /// Frame height in pixels.
+    #[must_use]
+    pub fn height(&self) -> u16 {
+        self.height
+    }
+
+    /// First frame row of this band.
+    #[must_use]
+    pub fn first_row(&self) -> u16 {
+        self.first_row
+    }
+
+    /// Number of rows in this band.
+    #[must_use]
+    pub fn rows(&self) -> u16 {
+        self.rows
+    }
+
+    /// The colour slice.
+    #[must_use]
+    pub fn pixels(&self) -> &[C] {
+        self.color
+    }
+
+    /// The depth buffer.
+    pub fn depth(&mut self) -> &mut D {
+        &mut self.depth
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrong_lengths_are_errors() {
+        let mut c = [Rgb565::BLACK; 100];
+        let mut z = [0u16; 99];
+        assert!(matches!(Band::new(&mut c[..], &mut z[..], 10, 10, 0), Err(TargetError::DepthLength { .. })));
+        assert!(matches!(Band::new(&mut c[..], NoDepth, 7, 100, 0), Err(TargetError::ColorLength { .. })));
+        assert!(matches!(Band::new(&mut c[..], NoDepth, 10, 15, 6), Err(TargetError::BandOutsideFrame { .. })));
+        assert!(matches!(Band::new(&mut c[..], NoDepth, 0, 15, 0), Err(TargetError::BadSize { .. })));
+        assert!(Band::new(&mut c[..], NoDepth, 10, 15, 5).is_ok());
+    }
+
+    #[test]
+    fn colour_conversions() {
+        assert_eq!(Rgb565::from_rgb888([255, 128, 0]), Rgb565::new(31, 32, 0));
+        assert_eq!(Rgb565::new(31, 63, 0).to_rgb888(), [255, 255, 0]);
+        assert_eq!(Rgb565Be::from_rgb888([255, 0, 0]).0, [0xF8, 0x00]);
+        assert_eq!(Gray8::from_rgb888([255, 255, 255]), Gray8::new(255));
+        assert_eq!(BinaryColor::from_rgb888([200, 200, 200]), BinaryColor::On);
+        assert_eq!(BinaryColor::from_rgb888([20, 20, 20]), BinaryColor::Off);
+    }
+}
