@@ -1,0 +1,498 @@
+//! `soft3d`: convert `.babylon` scenes to `.s3d`, inspect them, and render them to PNG/GIF.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use embedded_graphics_core::pixelcolor::{BinaryColor, Gray8, Rgb565, Rgb888};
+use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
+use soft3d::format::{emit, EmitOptions, TextureChoice, TextureFormat};
+use soft3d::math::Vec3;
+use soft3d::target::DepthBuffer;
+use soft3d::{Band, Camera, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Shading, Stats};
+
+#[derive(Parser)]
+#[command(name = "soft3d", version, about = "Convert, inspect and render 3D scenes for soft3d")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Convert a .babylon scene into an .s3d file.
+    Convert {
+        /// The .babylon file.
+        input: PathBuf,
+        /// Where to write the .s3d file.
+        #[arg(short, long)]
+        output: PathBuf,
+        #[command(flatten)]
+        conv: ConvertArgs,
+    },
+    /// Print what an .s3d (or .babylon) file holds.
+    Info {
+        /// The file.
+        input: PathBuf,
+        #[command(flatten)]
+        conv: ConvertArgs,
+    },
+    /// Render a scene (.babylon or .s3d) to a PNG (or an animated GIF).
+    Render(RenderArgs),
+}
+
+#[derive(Args, Clone)]
+struct ConvertArgs {
+    /// Where uv (0,0) is in the image: bottom (Babylon.js) or top (the 2013 tutorial's Suzanne).
+    #[arg(long, value_enum, default_value_t = Origin::Bottom)]
+    uv_origin: Origin,
+    /// Downscale textures so that neither side exceeds N texels.
+    #[arg(long)]
+    max_texture: Option<u32>,
+    /// Resize textures to power-of-two sizes.
+    #[arg(long)]
+    pow2: bool,
+    /// Texel storage: auto = rgb565, or rgba5551 when the texture has transparency.
+    #[arg(long, value_enum, default_value_t = TexFormat::Auto)]
+    texture_format: TexFormat,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Origin {
+    Bottom,
+    Top,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TexFormat {
+    Auto,
+    Rgb565,
+    Rgba5551,
+    Rgb888,
+    Rgba8888,
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq)]
+enum DepthKind {
+    U16,
+    F32,
+    None,
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq)]
+enum PixelFormat {
+    Rgb565,
+    Rgb888,
+    Gray8,
+    Mono,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ModeArg {
+    Solid,
+    Wire,
+    Points,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ShadingArg {
+    Unlit,
+    Flat,
+    Gouraud,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum FilterArg {
+    Nearest,
+    Bilinear,
+}
+
+#[derive(Args, Clone)]
+struct RenderArgs {
+    /// The scene (.babylon is converted in memory).
+    input: PathBuf,
+    /// Output PNG.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Frame size WxH.
+    #[arg(long, default_value = "640x480")]
+    size: String,
+    /// Camera position x,y,z (default: the scene's camera, or one framing the scene).
+    #[arg(long, allow_hyphen_values = true)]
+    eye: Option<String>,
+    /// Camera target x,y,z.
+    #[arg(long, allow_hyphen_values = true)]
+    target: Option<String>,
+    /// Vertical field of view in radians.
+    #[arg(long)]
+    fov: Option<f32>,
+    /// Near clip distance.
+    #[arg(long)]
+    near: Option<f32>,
+    /// Far clip distance.
+    #[arg(long)]
+    far: Option<f32>,
+    /// What to draw.
+    #[arg(long, value_enum, default_value_t = ModeArg::Solid)]
+    mode: ModeArg,
+    /// Depth buffer.
+    #[arg(long, value_enum, default_value_t = DepthKind::U16)]
+    depth: DepthKind,
+    /// Render in N horizontal bands.
+    #[arg(long, default_value_t = 1)]
+    bands: u16,
+    /// Background colour r,g,b (0-255).
+    #[arg(long, default_value = "32,32,48")]
+    background: String,
+    /// Lighting.
+    #[arg(long, value_enum, default_value_t = ShadingArg::Gouraud)]
+    shading: ShadingArg,
+    /// Texture filter.
+    #[arg(long, value_enum, default_value_t = FilterArg::Nearest)]
+    filter: FilterArg,
+    /// A light, dir:x,y,z or point:x,y,z (repeatable; default: the scene's lights).
+    #[arg(long, allow_hyphen_values = true)]
+    light: Vec<String>,
+    /// Pixel format rendered into (the PNG shows it widened back to 8 bits).
+    #[arg(long, value_enum, default_value_t = PixelFormat::Rgb888)]
+    format: PixelFormat,
+    /// Exact perspective correction every N pixels (1 = every pixel).
+    #[arg(long, default_value_t = 1)]
+    subspan: u32,
+    /// Also write a turntable animation to this GIF.
+    #[arg(long)]
+    gif: Option<PathBuf>,
+    /// Frames of the GIF.
+    #[arg(long, default_value_t = 36)]
+    frames: u32,
+    #[command(flatten)]
+    conv: ConvertArgs,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Convert { input, output, conv } => cmd_convert(&input, &output, &conv),
+        Command::Info { input, conv } => cmd_info(&input, &conv),
+        Command::Render(args) => cmd_render(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("soft3d: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+type Result<T> = std::result::Result<T, String>;
+
+/// Converts a `.babylon` file to `.s3d` bytes, printing the converter's warnings.
+fn convert_bytes(input: &Path, conv: &ConvertArgs) -> Result<Vec<u8>> {
+    let opts = ConvertOptions {
+        uv_origin: match conv.uv_origin {
+            Origin::Bottom => UvOrigin::Bottom,
+            Origin::Top => UvOrigin::Top,
+        },
+        max_texture: conv.max_texture,
+        power_of_two: conv.pow2,
+    };
+    let (scene, warnings) = read_babylon_file(input, &opts).map_err(|e| e.to_string())?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    let textures = match conv.texture_format {
+        TexFormat::Auto => TextureChoice::Auto,
+        TexFormat::Rgb565 => TextureChoice::Fixed(TextureFormat::Rgb565),
+        TexFormat::Rgba5551 => TextureChoice::Fixed(TextureFormat::Rgba5551),
+        TexFormat::Rgb888 => TextureChoice::Fixed(TextureFormat::Rgb888),
+        TexFormat::Rgba8888 => TextureChoice::Fixed(TextureFormat::Rgba8888),
+    };
+    emit(&scene, &EmitOptions { textures }).map_err(|e| format!("{}: {e}", input.display()))
+}
+
+/// Reads a scene: `.s3d` as is, anything else through the converter.
+fn load_scene(input: &Path, conv: &ConvertArgs) -> Result<Vec<u8>> {
+    if input.extension().is_some_and(|e| e == "s3d") {
+        std::fs::read(input).map_err(|e| format!("{}: {e}", input.display()))
+    } else {
+        convert_bytes(input, conv)
+    }
+}
+
+/// Writes `bytes` to `path` through a temporary file and a rename, so that a failure never
+/// leaves a partial file behind.
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = path.with_extension("tmp-soft3d");
+    std::fs::write(&tmp, bytes)
+        .and_then(|()| std::fs::rename(&tmp, path))
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            format!("{}: {e}", path.display())
+        })
+}
+
+fn cmd_convert(input: &Path, output: &Path, conv: &ConvertArgs) -> Result<()> {
+    let bytes = convert_bytes(input, conv)?;
+    write_atomically(output, &bytes)?;
+    let source = std::fs::metadata(input).map(|m| m.len()).unwrap_or(0);
+    println!("{} ({} bytes) -> {} ({} bytes)", input.display(), source, output.display(), bytes.len());
+    Ok(())
+}
+
+fn cmd_info(input: &Path, conv: &ConvertArgs) -> Result<()> {
+    let bytes = load_scene(input, conv)?;
+    let model = Model::parse(&bytes).map_err(|e| format!("{}: {e}", input.display()))?;
+    println!("{}: {} bytes", input.display(), bytes.len());
+    let (mut tris, mut verts) = (0u64, 0u64);
+    for (i, m) in model.meshes().enumerate() {
+        let (c, r) = m.bounding_sphere();
+        let w = m.world().transform_point3(c);
+        println!(
+            "  mesh {i} \"{}\": {} vertices, {} triangles, {} sub-meshes{}{}, bounds centre ({:.3}, {:.3}, {:.3}) radius {:.3} (local)",
+            m.name(),
+            m.vertex_count(),
+            m.triangle_count(),
+            m.submeshes().count(),
+            if m.has_uvs() { ", uvs" } else { "" },
+            if m.has_colors() { ", colours" } else { "" },
+            w.x,
+            w.y,
+            w.z,
+            r
+        );
+        tris += m.triangle_count() as u64;
+        verts += m.vertex_count() as u64;
+    }
+    for i in 0..model.instance_count() {
+        if let Some((m, world)) = model.instance(i) {
+            let t = world.w_axis;
+            println!("  instance {i}: mesh {m} at ({:.3}, {:.3}, {:.3})", t.x, t.y, t.z);
+        }
+    }
+    for i in 0..model.material_count() as u16 {
+        if let Some(m) = model.material(i) {
+            println!(
+                "  material {i}: rgba {:?}, {}, texture {:?}, wrap {:?}/{:?}",
+                m.rgba,
+                if m.cull_back_faces { "back faces culled" } else { "two-sided" },
+                m.texture,
+                m.wrap_u,
+                m.wrap_v
+            );
+        }
+    }
+    for i in 0..model.texture_count() as u16 {
+        if let Some(t) = model.texture(i) {
+            println!("  texture {i}: {}x{} {:?}, {} bytes", t.width, t.height, t.format, t.texels.len());
+        }
+    }
+    for l in model.lights() {
+        println!("  light {:?} {:?} diffuse {:?} intensity {}", l.kind, l.vector.to_array(), l.diffuse.to_array(), l.intensity);
+    }
+    if let Some(c) = model.camera() {
+        println!(
+            "  camera at {:?} looking at {:?}, fov {}, near {}, far {}",
+            c.position.to_array(),
+            c.target.to_array(),
+            c.fov,
+            c.near,
+            c.far
+        );
+    }
+    println!(
+        "  total: {} meshes, {} instances, {verts} vertices, {tris} triangles, {} materials, {} textures",
+        model.mesh_count(),
+        model.instance_count(),
+        model.material_count(),
+        model.texture_count()
+    );
+    Ok(())
+}
+
+fn parse_vec3(s: &str, what: &str) -> Result<Vec3> {
+    let v: Vec<f32> = s.split(',').map(|p| p.trim().parse::<f32>()).collect::<std::result::Result<_, _>>().map_err(|_| format!("{what}: expected x,y,z, got {s:?}"))?;
+    match v[..] {
+        [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!("{what}: expected three finite numbers x,y,z, got {s:?}")),
+    }
+}
+
+fn parse_size(s: &str) -> Result<(u16, u16)> {
+    let (w, h) = s.split_once('x').ok_or_else(|| format!("--size: expected WxH, got {s:?}"))?;
+    let p = |v: &str| v.parse::<u16>().map_err(|_| format!("--size: bad number {v:?}"));
+    Ok((p(w)?, p(h)?))
+}
+
+fn parse_rgb(s: &str) -> Result<[u8; 3]> {
+    let v: Vec<u8> = s.split(',').map(|p| p.trim().parse::<u8>()).collect::<std::result::Result<_, _>>().map_err(|_| format!("--background: expected r,g,b in 0-255, got {s:?}"))?;
+    <[u8; 3]>::try_from(v).map_err(|_| format!("--background: expected three values, got {s:?}"))
+}
+
+/// A camera showing every mesh's bounding sphere, looking along +z, when the scene has none.
+fn framing_camera(model: &Model<'_>) -> (Vec3, Vec3) {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for (mesh, world) in model.draws() {
+        let (c, r) = mesh.bounding_sphere();
+        let scale = [world.x_axis, world.y_axis, world.z_axis].iter().map(|a| a.truncate().length()).fold(0.0f32, f32::max);
+        let c = world.transform_point3(c);
+        lo = lo.min(c - Vec3::splat(r * scale));
+        hi = hi.max(c + Vec3::splat(r * scale));
+    }
+    if !lo.is_finite() || !hi.is_finite() {
+        return (Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO);
+    }
+    let centre = (lo + hi) * 0.5;
+    let radius = ((hi - lo) * 0.5).length().max(1e-3);
+    (centre + Vec3::new(0.0, 0.3, -1.0).normalize() * radius * 2.6, centre)
+}
+
+struct View {
+    camera: Camera,
+    lights: Lights<8>,
+    opts: RenderOptions,
+    background: [u8; 3],
+    width: u16,
+    height: u16,
+    bands: u16,
+}
+
+fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
+    let (width, height) = parse_size(&args.size)?;
+    let aspect = width as f32 / height.max(1) as f32;
+    let scene_cam = model.camera();
+    let (default_eye, default_target) = match &scene_cam {
+        Some(c) => (c.position, c.target),
+        None => framing_camera(model),
+    };
+    let eye = args.eye.as_deref().map(|s| parse_vec3(s, "--eye")).transpose()?.unwrap_or(default_eye);
+    let target = args.target.as_deref().map(|s| parse_vec3(s, "--target")).transpose()?.unwrap_or(default_target);
+    let fov = args.fov.or(scene_cam.map(|c| c.fov)).unwrap_or(0.8);
+    let near = args.near.or(scene_cam.map(|c| c.near)).unwrap_or(0.1);
+    let far = args.far.or(scene_cam.map(|c| c.far)).unwrap_or(1000.0);
+    let camera = Camera::perspective(eye, target, fov, aspect, near, far).map_err(|e| e.to_string())?;
+    let mut lights = Lights::<8>::from_model(model);
+    if !args.light.is_empty() {
+        lights = Lights::new(Vec3::ZERO);
+        for l in &args.light {
+            let light = if let Some(v) = l.strip_prefix("dir:") {
+                Lights::<8>::directional(parse_vec3(v, "--light dir")?, 1.0)
+            } else if let Some(v) = l.strip_prefix("point:") {
+                Lights::<8>::point(parse_vec3(v, "--light point")?, 1.0)
+            } else {
+                return Err(format!("--light: expected dir:x,y,z or point:x,y,z, got {l:?}"));
+            };
+            lights.push(light).map_err(|_| "--light: at most 8 lights".to_string())?;
+        }
+    }
+    let opts = RenderOptions {
+        shading: match args.shading {
+            ShadingArg::Unlit => Shading::Unlit,
+            ShadingArg::Flat => Shading::Flat,
+            ShadingArg::Gouraud => Shading::Gouraud,
+        },
+        mode: match args.mode {
+            ModeArg::Solid => Mode::Solid,
+            ModeArg::Wire => Mode::Wireframe,
+            ModeArg::Points => Mode::Points,
+        },
+        filter: match args.filter {
+            FilterArg::Nearest => Filter::Nearest,
+            FilterArg::Bilinear => Filter::Bilinear,
+        },
+        subspan: args.subspan.max(1),
+        textures: true,
+    };
+    if args.bands == 0 || args.bands > height {
+        return Err(format!("--bands: must be 1..={height}"));
+    }
+    Ok(View { camera, lights, opts, background: parse_rgb(&args.background)?, width, height, bands: args.bands })
+}
+
+/// Renders one frame band by band into RGB8, in pixel format `C` with depth buffer kind `depth`.
+fn render_frame<C: FrameColor + Default>(model: &Model<'_>, view: &View, spin: f32, depth: DepthKind) -> Result<(Vec<[u8; 3]>, Stats)> {
+    let (w, h) = (view.width as usize, view.height as usize);
+    let mut color = vec![C::default(); w * h];
+    let mut z16 = vec![0u16; w * h];
+    let mut zf = vec![0f32; w * h];
+    let rows_per_band = h.div_ceil(view.bands as usize);
+    let transform = soft3d::math::Mat4::from_rotation_y(spin);
+    let mut stats = Stats::default();
+    let bg = C::from_rgb888(view.background);
+    for (k, band_color) in color.chunks_mut(rows_per_band * w).enumerate() {
+        let first_row = (k * rows_per_band) as u16;
+        let n = band_color.len();
+        let range = k * rows_per_band * w..k * rows_per_band * w + n;
+        let s = match depth {
+            DepthKind::U16 => draw_band(band_color, &mut z16[range], view, first_row, model, transform, bg)?,
+            DepthKind::F32 => draw_band(band_color, &mut zf[range], view, first_row, model, transform, bg)?,
+            DepthKind::None => draw_band(band_color, NoDepth, view, first_row, model, transform, bg)?,
+        };
+        stats += s;
+    }
+    Ok((color.iter().map(|c| c.to_rgb888()).collect(), stats))
+}
+
+fn draw_band<C: FrameColor, D: DepthBuffer>(color: &mut [C], depth: D, view: &View, first_row: u16, model: &Model<'_>, transform: soft3d::math::Mat4, bg: C) -> Result<Stats> {
+    let mut band = Band::new(color, depth, view.width, view.height, first_row).map_err(|e| e.to_string())?;
+    band.clear(bg);
+    Ok(soft3d::draw_model(&mut band, model, transform, &view.camera, &view.lights, &view.opts))
+}
+
+fn render_any(model: &Model<'_>, view: &View, spin: f32, args: &RenderArgs) -> Result<(Vec<[u8; 3]>, Stats)> {
+    match args.format {
+        PixelFormat::Rgb888 => render_frame::<Rgb888>(model, view, spin, args.depth),
+        PixelFormat::Rgb565 => render_frame::<Rgb565>(model, view, spin, args.depth),
+        PixelFormat::Gray8 => render_frame::<Gray8>(model, view, spin, args.depth),
+        PixelFormat::Mono => render_frame::<BinaryColor>(model, view, spin, args.depth),
+    }
+}
+
+fn cmd_render(args: &RenderArgs) -> Result<()> {
+    let mut conv = args.conv.clone();
+    // Keep 8-bit texels when rendering to RGB888 so the output compares exactly with others.
+    if args.format == PixelFormat::Rgb888 && matches!(conv.texture_format, TexFormat::Auto) && !args.input.extension().is_some_and(|e| e == "s3d") {
+        conv.texture_format = TexFormat::Rgba8888;
+    }
+    let bytes = load_scene(&args.input, &conv)?;
+    let model = Model::parse(&bytes).map_err(|e| format!("{}: {e}", args.input.display()))?;
+    let view = make_view(args, &model)?;
+    let start = std::time::Instant::now();
+    let (rgb, stats) = render_any(&model, &view, 0.0, args)?;
+    let elapsed = start.elapsed();
+    let png = encode_png(&rgb, view.width, view.height)?;
+    write_atomically(&args.output, &png)?;
+    println!("{}: {}x{} in {:.2} ms, {stats:?}", args.output.display(), view.width, view.height, elapsed.as_secs_f64() * 1e3);
+    if let Some(gif) = &args.gif {
+        write_gif(gif, &model, &view, args)?;
+    }
+    Ok(())
+}
+
+fn encode_png(rgb: &[[u8; 3]], w: u16, h: u16) -> Result<Vec<u8>> {
+    let flat: Vec<u8> = rgb.iter().flatten().copied().collect();
+    let img = image::RgbImage::from_raw(w as u32, h as u32, flat).ok_or("image size mismatch")?;
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png).map_err(|e| e.to_string())?;
+    Ok(out.into_inner())
+}
+
+fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &RenderArgs) -> Result<()> {
+    let mut out = Vec::new();
+    {
+        let mut enc = image::codecs::gif::GifEncoder::new_with_speed(&mut out, 10);
+        enc.set_repeat(image::codecs::gif::Repeat::Infinite).map_err(|e| e.to_string())?;
+        let frames = args.frames.max(1);
+        for f in 0..frames {
+            let spin = f as f32 / frames as f32 * std::f32::consts::TAU;
+            let (rgb, _) = render_any(model, view, spin, args)?;
+            let rgba: Vec<u8> = rgb.iter().flat_map(|c| [c[0], c[1], c[2], 255]).collect();
+            let img = image::RgbaImage::from_raw(view.width as u32, view.height as u32, rgba).ok_or("image size mismatch")?;
+            let frame = image::Frame::from_parts(img, 0, 0, image::Delay::from_numer_denom_ms(50, 1));
+            enc.encode_frame(frame).map_err(|e| e.to_string())?;
+        }
+    }
+    write_atomically(path, &out)?;
+    println!("{}: {} frames", path.display(), args.frames);
+    Ok(())
+}
