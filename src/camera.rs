@@ -26,7 +26,9 @@ pub enum CameraError {
 impl core::fmt::Display for CameraError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.write_str(match self {
-            CameraError::BadLookAt => "camera: eye equals target, looks straight up/down, or is not finite",
+            CameraError::BadLookAt => {
+                "camera: eye equals target, looks straight up/down, or is not finite"
+            }
             CameraError::BadProjection => "camera: field of view, aspect, near or far out of range",
         })
     }
@@ -41,26 +43,59 @@ impl Camera {
     ///
     /// # Errors
     /// [`CameraError`] for a degenerate look-at or out-of-range projection values.
-    pub fn perspective(eye: Vec3, target: Vec3, fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Self, CameraError> {
-        let ok = fov_y > 0.0 && fov_y < core::f32::consts::PI && aspect > 0.0 && near > 0.0 && far > near && far.is_finite() && aspect.is_finite();
+    pub fn perspective(
+        eye: Vec3,
+        target: Vec3,
+        fov_y: f32,
+        aspect: f32,
+        near: f32,
+        far: f32,
+    ) -> Result<Self, CameraError> {
+        let ok = fov_y > 0.0
+            && fov_y < core::f32::consts::PI
+            && aspect > 0.0
+            && near > 0.0
+            && far > near
+            && far.is_finite()
+            && aspect.is_finite();
         if !ok {
             return Err(CameraError::BadProjection);
         }
         let view = look_at(eye, target)?;
-        Ok(Camera { view, projection: perspective_lh(fov_y, aspect, near, far), eye })
+        Ok(Camera {
+            view,
+            projection: perspective_lh(fov_y, aspect, near, far),
+            eye,
+        })
     }
 
     /// An orthographic camera showing a `width` x `height` (world units) window.
     ///
     /// # Errors
     /// [`CameraError`] for a degenerate look-at or out-of-range values.
-    pub fn orthographic(eye: Vec3, target: Vec3, width: f32, height: f32, near: f32, far: f32) -> Result<Self, CameraError> {
-        let ok = width > 0.0 && height > 0.0 && far > near && (far - near).is_finite() && width.is_finite() && height.is_finite();
+    pub fn orthographic(
+        eye: Vec3,
+        target: Vec3,
+        width: f32,
+        height: f32,
+        near: f32,
+        far: f32,
+    ) -> Result<Self, CameraError> {
+        let ok = width > 0.0
+            && height > 0.0
+            && far > near
+            && (far - near).is_finite()
+            && width.is_finite()
+            && height.is_finite();
         if !ok {
             return Err(CameraError::BadProjection);
         }
         let view = look_at(eye, target)?;
-        Ok(Camera { view, projection: orthographic_lh(width, height, near, far), eye })
+        Ok(Camera {
+            view,
+            projection: orthographic_lh(width, height, near, far),
+            eye,
+        })
     }
 
     /// The camera stored in a scene, for a frame of the given aspect ratio.

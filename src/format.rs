@@ -43,9 +43,9 @@
 //! | 88..104 | 4 x f32   | local bounding sphere: centre x, y, z, radius (>= 0)         |
 //! | 104..108| u32       | vertex count (>= 1)                                          |
 //! | 108..112| u32       | index count (a multiple of 3)                                |
-//! | 112..114| u16       | flags: bit 0 indices are u32 (else u16), bit 1 has UVs, bit 2 has colours |
+//! | 112..114| u16       | flags: bit 0 indices are u32 (else u16), bit 1 has UVs, bit 2 has colours, bit 3 positions are 3 x f32 (exact; `pos_offset` 0, `pos_scale` 1) |
 //! | 114..116| u16       | sub-mesh count (>= 1)                                        |
-//! | 116..120| u32       | offset of positions, `vertex count` x 3 x u16                |
+//! | 116..120| u32       | offset of positions, `vertex count` x 3 x u16 (or 3 x f32, flag bit 3) |
 //! | 120..124| u32       | offset of normals, `vertex count` x 3 x i16                  |
 //! | 124..128| u32       | offset of UVs, `vertex count` x 2 x u16 (0 if no UVs)        |
 //! | 128..132| u32       | offset of colours, `vertex count` x RGBA u8 (0 if none)      |
@@ -133,6 +133,7 @@ mod mesh {
     pub const FLAG_U32_INDICES: u16 = 1;
     pub const FLAG_UVS: u16 = 2;
     pub const FLAG_COLORS: u16 = 4;
+    pub const FLAG_F32_POSITIONS: u16 = 8;
 }
 
 mod submesh {
@@ -323,19 +324,34 @@ impl fmt::Display for ParseError {
             }
             ParseError::BadMagic => f.write_str("not an .s3d file (bad magic at offset 0)"),
             ParseError::UnsupportedVersion(v) => {
-                write!(f, "unsupported .s3d version {v} at offset 4 (this reader knows {VERSION})")
+                write!(
+                    f,
+                    "unsupported .s3d version {v} at offset 4 (this reader knows {VERSION})"
+                )
             }
             ParseError::OutOfBounds { part, offset } => {
-                write!(f, "{part} referenced at offset {offset} lies outside the file")
+                write!(
+                    f,
+                    "{part} referenced at offset {offset} lies outside the file"
+                )
             }
             ParseError::NotFinite { part, offset } => {
                 write!(f, "{part}: non-finite number at offset {offset}")
             }
-            ParseError::IndexOutOfRange { offset, index, vertex_count } => write!(
+            ParseError::IndexOutOfRange {
+                offset,
+                index,
+                vertex_count,
+            } => write!(
                 f,
                 "indices: index {index} at offset {offset} but only {vertex_count} vertices"
             ),
-            ParseError::BadReference { part, offset, index, count } => write!(
+            ParseError::BadReference {
+                part,
+                offset,
+                index,
+                count,
+            } => write!(
                 f,
                 "{part}: reference {index} at offset {offset} but only {count} exist"
             ),
@@ -391,7 +407,13 @@ fn affine_at(data: &[u8], at: usize) -> Mat4 {
 // Validation helpers used by `parse`.
 
 /// Checks that `len` bytes at `start` lie in a file of `file_len` bytes and returns the range.
-fn section(start: u32, len: usize, file_len: usize, part: Part, at: usize) -> Result<Range<usize>, ParseError> {
+fn section(
+    start: u32,
+    len: usize,
+    file_len: usize,
+    part: Part,
+    at: usize,
+) -> Result<Range<usize>, ParseError> {
     let start = start as usize;
     match start.checked_add(len) {
         Some(end) if end <= file_len => Ok(start..end),
@@ -409,12 +431,23 @@ fn check_finite(data: &[u8], range: Range<usize>, part: Part) -> Result<(), Pars
     Ok(())
 }
 
-fn check_ref(data: &[u8], at: usize, count: u16, part: Part, allow_none: bool) -> Result<(), ParseError> {
+fn check_ref(
+    data: &[u8],
+    at: usize,
+    count: u16,
+    part: Part,
+    allow_none: bool,
+) -> Result<(), ParseError> {
     let index = u16_at(data, at);
     if index < count || (allow_none && index == NONE) {
         Ok(())
     } else {
-        Err(ParseError::BadReference { part, offset: at, index, count })
+        Err(ParseError::BadReference {
+            part,
+            offset: at,
+            index,
+            count,
+        })
     }
 }
 
@@ -528,7 +561,10 @@ impl<'a> Model<'a> {
     /// A [`ParseError`] naming the first problem found and its byte offset.
     pub fn parse(data: &'a [u8]) -> Result<Self, ParseError> {
         if data.len() < header::LEN {
-            return Err(ParseError::Truncated { expected: header::LEN, actual: data.len() });
+            return Err(ParseError::Truncated {
+                expected: header::LEN,
+                actual: data.len(),
+            });
         }
         if data[header::MAGIC] != MAGIC {
             return Err(ParseError::BadMagic);
@@ -539,7 +575,10 @@ impl<'a> Model<'a> {
         }
         let file_len = u32_at(data, header::FILE_LEN.start) as usize;
         if file_len != data.len() {
-            return Err(ParseError::Truncated { expected: file_len, actual: data.len() });
+            return Err(ParseError::Truncated {
+                expected: file_len,
+                actual: data.len(),
+            });
         }
         let model = Model { data };
         model.validate()?;
@@ -550,7 +589,13 @@ impl<'a> Model<'a> {
         u16_at(self.data, field.start)
     }
 
-    fn table(&self, field: Range<usize>, count: Range<usize>, record_len: usize, part: Part) -> Result<Range<usize>, ParseError> {
+    fn table(
+        &self,
+        field: Range<usize>,
+        count: Range<usize>,
+        record_len: usize,
+        part: Part,
+    ) -> Result<Range<usize>, ParseError> {
         let n = self.count(count) as usize;
         let start = u32_at(self.data, field.start);
         section(start, n * record_len, self.data.len(), part, field.start)
@@ -566,30 +611,70 @@ impl<'a> Model<'a> {
         for at in meshes.step_by(mesh::LEN) {
             self.validate_mesh(at, n_materials)?;
         }
-        let materials = self.table(header::MATERIALS, header::MATERIAL_COUNT, material::LEN, Part::Material)?;
+        let materials = self.table(
+            header::MATERIALS,
+            header::MATERIAL_COUNT,
+            material::LEN,
+            Part::Material,
+        )?;
         for at in materials.step_by(material::LEN) {
-            check_ref(d, at + material::TEXTURE.start, n_textures, Part::Material, true)?;
+            check_ref(
+                d,
+                at + material::TEXTURE.start,
+                n_textures,
+                Part::Material,
+                true,
+            )?;
             for wrap in [material::WRAP_U, material::WRAP_V] {
                 if Wrap::from_u8(u8_at(d, at + wrap)).is_none() {
                     return Err(invalid(Part::Material, at + wrap));
                 }
             }
         }
-        let textures = self.table(header::TEXTURES, header::TEXTURE_COUNT, texture::LEN, Part::Texture)?;
+        let textures = self.table(
+            header::TEXTURES,
+            header::TEXTURE_COUNT,
+            texture::LEN,
+            Part::Texture,
+        )?;
         for at in textures.step_by(texture::LEN) {
             let format = TextureFormat::from_u8(u8_at(d, at + texture::FORMAT))
                 .ok_or(invalid(Part::Texture, at + texture::FORMAT))?;
-            let (w, h) = (u16_at(d, at + texture::WIDTH.start), u16_at(d, at + texture::HEIGHT.start));
+            let (w, h) = (
+                u16_at(d, at + texture::WIDTH.start),
+                u16_at(d, at + texture::HEIGHT.start),
+            );
             if w == 0 || h == 0 {
                 return Err(invalid(Part::Texture, at));
             }
             let len = w as usize * h as usize * format.bytes_per_texel();
-            section(u32_at(d, at + texture::DATA.start), len, d.len(), Part::Texture, at + texture::DATA.start)?;
+            section(
+                u32_at(d, at + texture::DATA.start),
+                len,
+                d.len(),
+                Part::Texture,
+                at + texture::DATA.start,
+            )?;
         }
-        let instances = self.table(header::INSTANCES, header::INSTANCE_COUNT, instance::LEN, Part::Instance)?;
+        let instances = self.table(
+            header::INSTANCES,
+            header::INSTANCE_COUNT,
+            instance::LEN,
+            Part::Instance,
+        )?;
         for at in instances.step_by(instance::LEN) {
-            check_ref(d, at + instance::MESH.start, n_meshes, Part::Instance, false)?;
-            check_finite(d, at + instance::WORLD.start..at + instance::WORLD.end, Part::Instance)?;
+            check_ref(
+                d,
+                at + instance::MESH.start,
+                n_meshes,
+                Part::Instance,
+                false,
+            )?;
+            check_finite(
+                d,
+                at + instance::WORLD.start..at + instance::WORLD.end,
+                Part::Instance,
+            )?;
         }
         let lights = self.table(header::LIGHTS, header::LIGHT_COUNT, light::LEN, Part::Light)?;
         for at in lights.step_by(light::LEN) {
@@ -600,10 +685,20 @@ impl<'a> Model<'a> {
         }
         let camera_at = u32_at(d, header::CAMERA.start);
         if camera_at != 0 {
-            let cam = section(camera_at, camera::LEN, d.len(), Part::Camera, header::CAMERA.start)?;
+            let cam = section(
+                camera_at,
+                camera::LEN,
+                d.len(),
+                Part::Camera,
+                header::CAMERA.start,
+            )?;
             check_finite(d, cam.clone(), Part::Camera)?;
             let c = cam.start;
-            let (fov, near, far) = (f32_at(d, c + camera::FOV.start), f32_at(d, c + camera::NEAR.start), f32_at(d, c + camera::FAR.start));
+            let (fov, near, far) = (
+                f32_at(d, c + camera::FOV.start),
+                f32_at(d, c + camera::NEAR.start),
+                f32_at(d, c + camera::FAR.start),
+            );
             if !(fov > 0.0 && fov < core::f32::consts::PI && near > 0.0 && far > near) {
                 return Err(invalid(Part::Camera, c + camera::FOV.start));
             }
@@ -615,19 +710,30 @@ impl<'a> Model<'a> {
         let d = self.data;
         check_finite(d, at..at + mesh::BOUNDS.end, Part::Mesh)?;
         let nonneg = |r: Range<usize>| r.step_by(4).all(|o| f32_at(d, at + o) >= 0.0);
-        if !nonneg(mesh::POS_SCALE) || !nonneg(mesh::UV_SCALE) || f32_at(d, at + mesh::BOUNDS.end - 4) < 0.0 {
+        if !nonneg(mesh::POS_SCALE)
+            || !nonneg(mesh::UV_SCALE)
+            || f32_at(d, at + mesh::BOUNDS.end - 4) < 0.0
+        {
             return Err(invalid(Part::Mesh, at + mesh::POS_SCALE.start));
         }
         let vertices = u32_at(d, at + mesh::VERTEX_COUNT.start);
         let indices = u32_at(d, at + mesh::INDEX_COUNT.start);
         let flags = u16_at(d, at + mesh::FLAGS.start);
-        if vertices == 0 || indices % 3 != 0 || flags > 7 {
+        if vertices == 0 || indices % 3 != 0 || flags > 15 {
             return Err(invalid(Part::Mesh, at + mesh::VERTEX_COUNT.start));
         }
         let nv = vertices as usize;
         let field = |f: Range<usize>| (u32_at(d, at + f.start), at + f.start);
         let (o, r) = field(mesh::POSITIONS);
-        section(o, nv * POSITION_LEN, d.len(), Part::Positions, r)?;
+        if flags & mesh::FLAG_F32_POSITIONS != 0 {
+            check_finite(
+                d,
+                section(o, nv * 12, d.len(), Part::Positions, r)?,
+                Part::Positions,
+            )?;
+        } else {
+            section(o, nv * POSITION_LEN, d.len(), Part::Positions, r)?;
+        }
         let (o, r) = field(mesh::NORMALS);
         section(o, nv * NORMAL_LEN, d.len(), Part::Normals, r)?;
         if flags & mesh::FLAG_UVS != 0 {
@@ -639,17 +745,35 @@ impl<'a> Model<'a> {
             section(o, nv * COLOR_LEN, d.len(), Part::Colors, r)?;
         }
         let (o, r) = field(mesh::NAME);
-        let name = section(o, u16_at(d, at + mesh::NAME_LEN.start) as usize, d.len(), Part::Name, r)?;
+        let name = section(
+            o,
+            u16_at(d, at + mesh::NAME_LEN.start) as usize,
+            d.len(),
+            Part::Name,
+            r,
+        )?;
         if core::str::from_utf8(&d[name]).is_err() {
             return Err(invalid(Part::Name, r));
         }
-        let index_len = if flags & mesh::FLAG_U32_INDICES != 0 { 4 } else { 2 };
+        let index_len = if flags & mesh::FLAG_U32_INDICES != 0 {
+            4
+        } else {
+            2
+        };
         let (o, r) = field(mesh::INDICES);
         let index_range = section(o, indices as usize * index_len, d.len(), Part::Indices, r)?;
         for i_at in index_range.step_by(index_len) {
-            let index = if index_len == 4 { u32_at(d, i_at) } else { u16_at(d, i_at) as u32 };
+            let index = if index_len == 4 {
+                u32_at(d, i_at)
+            } else {
+                u16_at(d, i_at) as u32
+            };
             if index >= vertices {
-                return Err(ParseError::IndexOutOfRange { offset: i_at, index, vertex_count: vertices });
+                return Err(ParseError::IndexOutOfRange {
+                    offset: i_at,
+                    index,
+                    vertex_count: vertices,
+                });
             }
         }
         let n_sub = u16_at(d, at + mesh::SUBMESH_COUNT.start) as usize;
@@ -657,8 +781,15 @@ impl<'a> Model<'a> {
             return Err(invalid(Part::Mesh, at + mesh::SUBMESH_COUNT.start));
         }
         let (o, r) = field(mesh::SUBMESHES);
-        for s in section(o, n_sub * submesh::LEN, d.len(), Part::SubMesh, r)?.step_by(submesh::LEN) {
-            check_ref(d, s + submesh::MATERIAL.start, n_materials, Part::SubMesh, true)?;
+        for s in section(o, n_sub * submesh::LEN, d.len(), Part::SubMesh, r)?.step_by(submesh::LEN)
+        {
+            check_ref(
+                d,
+                s + submesh::MATERIAL.start,
+                n_materials,
+                Part::SubMesh,
+                true,
+            )?;
             let start = u32_at(d, s + submesh::INDEX_START.start);
             let count = u32_at(d, s + submesh::INDEX_COUNT.start);
             let in_range = start.checked_add(count).is_some_and(|end| end <= indices);
@@ -675,7 +806,13 @@ impl<'a> Model<'a> {
         self.data
     }
 
-    fn record(&self, table: Range<usize>, count: Range<usize>, len: usize, i: usize) -> Option<usize> {
+    fn record(
+        &self,
+        table: Range<usize>,
+        count: Range<usize>,
+        len: usize,
+        i: usize,
+    ) -> Option<usize> {
         (i < self.count(count) as usize).then(|| u32_at(self.data, table.start) as usize + i * len)
     }
 
@@ -689,7 +826,10 @@ impl<'a> Model<'a> {
     #[must_use]
     pub fn mesh(&self, i: usize) -> Option<Mesh<'a>> {
         let at = self.record(header::MESHES, header::MESH_COUNT, mesh::LEN, i)?;
-        Some(Mesh { data: self.data, at })
+        Some(Mesh {
+            data: self.data,
+            at,
+        })
     }
 
     /// All meshes.
@@ -707,7 +847,12 @@ impl<'a> Model<'a> {
     /// Material `i`, or `None` if out of range (including [`NONE`]).
     #[must_use]
     pub fn material(&self, i: u16) -> Option<Material> {
-        let at = self.record(header::MATERIALS, header::MATERIAL_COUNT, material::LEN, i as usize)?;
+        let at = self.record(
+            header::MATERIALS,
+            header::MATERIAL_COUNT,
+            material::LEN,
+            i as usize,
+        )?;
         let d = self.data;
         let texture = u16_at(d, at + material::TEXTURE.start);
         Some(Material {
@@ -728,14 +873,24 @@ impl<'a> Model<'a> {
     /// Texture `i`, or `None` if out of range.
     #[must_use]
     pub fn texture(&self, i: u16) -> Option<Texture<'a>> {
-        let at = self.record(header::TEXTURES, header::TEXTURE_COUNT, texture::LEN, i as usize)?;
+        let at = self.record(
+            header::TEXTURES,
+            header::TEXTURE_COUNT,
+            texture::LEN,
+            i as usize,
+        )?;
         let d = self.data;
         let width = u16_at(d, at + texture::WIDTH.start);
         let height = u16_at(d, at + texture::HEIGHT.start);
         let format = TextureFormat::from_u8(u8_at(d, at + texture::FORMAT))?;
         let start = u32_at(d, at + texture::DATA.start) as usize;
         let len = width as usize * height as usize * format.bytes_per_texel();
-        Some(Texture { width, height, format, texels: d.get(start..start + len)? })
+        Some(Texture {
+            width,
+            height,
+            format,
+            texels: d.get(start..start + len)?,
+        })
     }
 
     /// Number of instances.
@@ -748,7 +903,10 @@ impl<'a> Model<'a> {
     #[must_use]
     pub fn instance(&self, i: usize) -> Option<(usize, Mat4)> {
         let at = self.record(header::INSTANCES, header::INSTANCE_COUNT, instance::LEN, i)?;
-        Some((u16_at(self.data, at) as usize, affine_at(self.data, at + instance::WORLD.start)))
+        Some((
+            u16_at(self.data, at) as usize,
+            affine_at(self.data, at + instance::WORLD.start),
+        ))
     }
 
     /// Everything to draw: each mesh with its own world matrix, then each instance.
@@ -843,7 +1001,7 @@ impl<'a> Mesh<'a> {
         affine_at(self.data, self.at + mesh::WORLD.start)
     }
 
-    /// The matrix that turns a quantized position (three u16 as f32) into a local position.
+    /// The matrix that turns a stored position ([`Mesh::position_stored`]) into a local one.
     #[must_use]
     pub fn dequantize(&self) -> Mat4 {
         let offset = vec3_at(self.data, self.at + mesh::POS_OFFSET.start);
@@ -857,8 +1015,14 @@ impl<'a> Mesh<'a> {
         let d = self.data;
         let a = self.at;
         (
-            [f32_at(d, a + mesh::UV_OFFSET.start), f32_at(d, a + mesh::UV_OFFSET.start + 4)],
-            [f32_at(d, a + mesh::UV_SCALE.start), f32_at(d, a + mesh::UV_SCALE.start + 4)],
+            [
+                f32_at(d, a + mesh::UV_OFFSET.start),
+                f32_at(d, a + mesh::UV_OFFSET.start + 4),
+            ],
+            [
+                f32_at(d, a + mesh::UV_SCALE.start),
+                f32_at(d, a + mesh::UV_SCALE.start + 4),
+            ],
         )
     }
 
@@ -899,26 +1063,45 @@ impl<'a> Mesh<'a> {
         self.flags() & mesh::FLAG_U32_INDICES != 0
     }
 
-    /// Quantized position of vertex `i` (zero if `i` is out of range).
+    /// Whether positions are stored as exact f32 rather than quantized u16.
     #[must_use]
-    pub fn position_q(&self, i: u32) -> [u16; 3] {
-        let at = self.u32_field(mesh::POSITIONS) as usize + i as usize * POSITION_LEN;
-        [u16_at(self.data, at), u16_at(self.data, at + 2), u16_at(self.data, at + 4)]
+    pub fn has_f32_positions(&self) -> bool {
+        self.flags() & mesh::FLAG_F32_POSITIONS != 0
+    }
+
+    /// Stored position of vertex `i`: the quantized values as floats, or the f32 position
+    /// (zero if `i` is out of range). [`Mesh::dequantize`] turns it into a local position.
+    #[must_use]
+    pub fn position_stored(&self, i: u32) -> Vec3 {
+        let base = self.u32_field(mesh::POSITIONS) as usize;
+        if self.has_f32_positions() {
+            vec3_at(self.data, base + i as usize * 12)
+        } else {
+            let at = base + i as usize * POSITION_LEN;
+            let q = [
+                u16_at(self.data, at),
+                u16_at(self.data, at + 2),
+                u16_at(self.data, at + 4),
+            ];
+            Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32)
+        }
     }
 
     /// Local position of vertex `i`.
     #[must_use]
     pub fn position(&self, i: u32) -> Vec3 {
-        let q = self.position_q(i);
-        self.dequantize()
-            .transform_point3(Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32))
+        self.dequantize().transform_point3(self.position_stored(i))
     }
 
     /// Quantized normal of vertex `i` (components scaled by [`NORMAL_ONE`]).
     #[must_use]
     pub fn normal_q(&self, i: u32) -> [i16; 3] {
         let at = self.u32_field(mesh::NORMALS) as usize + i as usize * NORMAL_LEN;
-        [i16_at(self.data, at), i16_at(self.data, at + 2), i16_at(self.data, at + 4)]
+        [
+            i16_at(self.data, at),
+            i16_at(self.data, at + 2),
+            i16_at(self.data, at + 4),
+        ]
     }
 
     /// Local normal of vertex `i` (unit length up to quantization).
@@ -952,7 +1135,10 @@ impl<'a> Mesh<'a> {
         if !self.has_colors() {
             return [255; 4];
         }
-        bytes_at(self.data, self.u32_field(mesh::COLORS) as usize + i as usize * COLOR_LEN)
+        bytes_at(
+            self.data,
+            self.u32_field(mesh::COLORS) as usize + i as usize * COLOR_LEN,
+        )
     }
 
     /// Index `k` of the index list.
@@ -969,7 +1155,11 @@ impl<'a> Mesh<'a> {
     /// The three vertex indices of triangle `t`.
     #[must_use]
     pub fn triangle(&self, t: u32) -> [u32; 3] {
-        [self.index(3 * t), self.index(3 * t + 1), self.index(3 * t + 2)]
+        [
+            self.index(3 * t),
+            self.index(3 * t + 1),
+            self.index(3 * t + 2),
+        ]
     }
 
     /// The mesh's sub-meshes.
@@ -1007,7 +1197,13 @@ pub struct Material {
 impl Default for Material {
     /// White, opaque, back faces culled, untextured (Babylon's default material).
     fn default() -> Self {
-        Self { rgba: [255; 4], cull_back_faces: true, wrap_u: Wrap::Repeat, wrap_v: Wrap::Repeat, texture: None }
+        Self {
+            rgba: [255; 4],
+            cull_back_faces: true,
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+            texture: None,
+        }
     }
 }
 
@@ -1049,7 +1245,12 @@ pub fn decode_texel(format: TextureFormat, b: &[u8]) -> [u8; 4] {
     let at = |i: usize| b.get(i).copied().unwrap_or(0);
     let v16 = u16::from_le_bytes([at(0), at(1)]);
     match format {
-        TextureFormat::Rgb565 => [expand(v16 >> 11, 5), expand((v16 >> 5) & 63, 6), expand(v16 & 31, 5), 255],
+        TextureFormat::Rgb565 => [
+            expand(v16 >> 11, 5),
+            expand((v16 >> 5) & 63, 6),
+            expand(v16 & 31, 5),
+            255,
+        ],
         TextureFormat::Rgba5551 => [
             expand(v16 >> 11, 5),
             expand((v16 >> 6) & 31, 5),
@@ -1107,13 +1308,6 @@ pub struct SceneCamera {
     pub far: f32,
 }
 
-/// Transforms a quantized position with a matrix that includes [`Mesh::dequantize`].
-#[inline]
-#[must_use]
-pub fn transform_q(m: &Mat4, q: [u16; 3]) -> Vec4 {
-    *m * Vec4::new(q[0] as f32, q[1] as f32, q[2] as f32, 1.0)
-}
-
 #[cfg(feature = "convert")]
 pub use emit::{emit, EmitError, EmitOptions, TextureChoice};
 
@@ -1140,6 +1334,8 @@ mod emit {
     pub struct EmitOptions {
         /// Texture storage.
         pub textures: TextureChoice,
+        /// Store positions as exact f32 (12 bytes a vertex) instead of quantized u16 (6 bytes).
+        pub float_positions: bool,
     }
 
     /// Why a scene cannot be written as `.s3d`.
@@ -1238,10 +1434,17 @@ mod emit {
 
     fn check_finite_scene(scene: &Scene) -> Result<(), EmitError> {
         for m in &scene.meshes {
-            let nums = m.world.iter().chain(m.positions.iter().flatten()).chain(m.normals.iter().flatten());
+            let nums = m
+                .world
+                .iter()
+                .chain(m.positions.iter().flatten())
+                .chain(m.normals.iter().flatten());
             let uvs = m.uvs.iter().flatten().flatten();
             if !nums.chain(uvs).all(|v| v.is_finite()) {
-                return Err(EmitError(std::format!("mesh \"{}\": non-finite number", m.name)));
+                return Err(EmitError(std::format!(
+                    "mesh \"{}\": non-finite number",
+                    m.name
+                )));
             }
         }
         Ok(())
@@ -1271,12 +1474,23 @@ mod emit {
         let meshes = out.reserve(mesh::LEN * scene.meshes.len());
         out.put_u32(header::MESHES.start, meshes as u32);
         for (k, m) in scene.meshes.iter().enumerate() {
-            emit_mesh(&mut out, meshes + k * mesh::LEN, m, scene.materials.len())?;
+            emit_mesh(
+                &mut out,
+                meshes + k * mesh::LEN,
+                m,
+                scene.materials.len(),
+                opts.float_positions,
+            )?;
         }
         let materials = out.reserve(material::LEN * scene.materials.len());
         out.put_u32(header::MATERIALS.start, materials as u32);
         for (k, m) in scene.materials.iter().enumerate() {
-            emit_material(&mut out, materials + k * material::LEN, m, scene.textures.len())?;
+            emit_material(
+                &mut out,
+                materials + k * material::LEN,
+                m,
+                scene.textures.len(),
+            )?;
         }
         let textures = out.reserve(texture::LEN * scene.textures.len());
         out.put_u32(header::TEXTURES.start, textures as u32);
@@ -1287,7 +1501,10 @@ mod emit {
         out.put_u32(header::INSTANCES.start, instances as u32);
         for (k, inst) in scene.instances.iter().enumerate() {
             if inst.mesh as usize >= scene.meshes.len() {
-                return Err(EmitError(std::format!("instance {k}: mesh {} does not exist", inst.mesh)));
+                return Err(EmitError(std::format!(
+                    "instance {k}: mesh {} does not exist",
+                    inst.mesh
+                )));
             }
             let at = instances + k * instance::LEN;
             out.put_u16(at + instance::MESH.start, inst.mesh);
@@ -1309,30 +1526,57 @@ mod emit {
             out.put_f32s(at + camera::TARGET.start, &c.target);
             out.put_f32s(at + camera::FOV.start, &[c.fov, c.near, c.far]);
         }
-        let len = u32::try_from(out.0.len()).map_err(|_| EmitError("scene larger than 4 GiB".into()))?;
+        let len =
+            u32::try_from(out.0.len()).map_err(|_| EmitError("scene larger than 4 GiB".into()))?;
         out.put_u32(header::FILE_LEN.start, len);
         // The writer must only produce what the reader accepts.
-        Model::parse(&out.0).map_err(|e| EmitError(std::format!("internal error, emitted file invalid: {e}")))?;
+        Model::parse(&out.0)
+            .map_err(|e| EmitError(std::format!("internal error, emitted file invalid: {e}")))?;
         Ok(out.0)
     }
 
-    fn emit_mesh(out: &mut Out, at: usize, m: &scene::MeshData, n_materials: usize) -> Result<(), EmitError> {
+    fn emit_mesh(
+        out: &mut Out,
+        at: usize,
+        m: &scene::MeshData,
+        n_materials: usize,
+        float_positions: bool,
+    ) -> Result<(), EmitError> {
         let fail = |what: String| EmitError(std::format!("mesh \"{}\": {what}", m.name));
         let nv = m.positions.len();
         if nv == 0 || nv > u32::MAX as usize {
             return Err(fail(std::format!("{nv} vertices")));
         }
-        if m.normals.len() != nv || m.uvs.as_ref().is_some_and(|u| u.len() != nv) || m.colors.as_ref().is_some_and(|c| c.len() != nv) {
-            return Err(fail("normals/uvs/colors and positions differ in length".into()));
+        if m.normals.len() != nv
+            || m.uvs.as_ref().is_some_and(|u| u.len() != nv)
+            || m.colors.as_ref().is_some_and(|c| c.len() != nv)
+        {
+            return Err(fail(
+                "normals/uvs/colors and positions differ in length".into(),
+            ));
         }
         if m.indices.len() % 3 != 0 {
-            return Err(fail(std::format!("{} indices is not a multiple of 3", m.indices.len())));
+            return Err(fail(std::format!(
+                "{} indices is not a multiple of 3",
+                m.indices.len()
+            )));
         }
-        if let Some((k, i)) = m.indices.iter().enumerate().find(|(_, &i)| i as usize >= nv) {
-            return Err(fail(std::format!("indices[{k}] = {i} but only {nv} vertices")));
+        if let Some((k, i)) = m
+            .indices
+            .iter()
+            .enumerate()
+            .find(|(_, &i)| i as usize >= nv)
+        {
+            return Err(fail(std::format!(
+                "indices[{k}] = {i} but only {nv} vertices"
+            )));
         }
         out.put_affine(at + mesh::WORLD.start, &m.world);
-        let (pos_offset, pos_scale) = quantizer(m.positions.iter().copied());
+        let (pos_offset, pos_scale) = if float_positions {
+            ([0.0; 3], [1.0; 3])
+        } else {
+            quantizer(m.positions.iter().copied())
+        };
         out.put_f32s(at + mesh::POS_OFFSET.start, &pos_offset);
         out.put_f32s(at + mesh::POS_SCALE.start, &pos_scale);
         out.put_f32s(at + mesh::BOUNDS.start, &bounding_sphere(&m.positions));
@@ -1341,7 +1585,8 @@ mod emit {
         let wide = nv > u16::MAX as usize + 1;
         let flags = u16::from(wide) * mesh::FLAG_U32_INDICES
             + u16::from(m.uvs.is_some()) * mesh::FLAG_UVS
-            + u16::from(m.colors.is_some()) * mesh::FLAG_COLORS;
+            + u16::from(m.colors.is_some()) * mesh::FLAG_COLORS
+            + u16::from(float_positions) * mesh::FLAG_F32_POSITIONS;
         out.put_u16(at + mesh::FLAGS.start, flags);
 
         let name = m.name.as_bytes();
@@ -1354,17 +1599,30 @@ mod emit {
         out.put_u32(at + mesh::NAME.start, name_at);
         out.put_u16(at + mesh::NAME_LEN.start, name.len() as u16);
 
-        let positions: Vec<u8> = m
-            .positions
-            .iter()
-            .flat_map(|p| (0..3).flat_map(move |k| quantize(p[k], pos_offset[k], pos_scale[k]).to_le_bytes()))
-            .collect();
+        let positions: Vec<u8> = if float_positions {
+            m.positions
+                .iter()
+                .flatten()
+                .flat_map(|v| v.to_le_bytes())
+                .collect()
+        } else {
+            m.positions
+                .iter()
+                .flat_map(|p| {
+                    (0..3).flat_map(move |k| {
+                        quantize(p[k], pos_offset[k], pos_scale[k]).to_le_bytes()
+                    })
+                })
+                .collect()
+        };
         let o = out.append(&positions);
         out.put_u32(at + mesh::POSITIONS.start, o);
         let normals: Vec<u8> = m
             .normals
             .iter()
-            .flat_map(|n| n.map(|c| (libm::roundf(c.clamp(-1.0, 1.0) * NORMAL_ONE) as i16).to_le_bytes()))
+            .flat_map(|n| {
+                n.map(|c| (libm::roundf(c.clamp(-1.0, 1.0) * NORMAL_ONE) as i16).to_le_bytes())
+            })
             .flatten()
             .collect();
         let o = out.append(&normals);
@@ -1375,7 +1633,10 @@ mod emit {
             out.put_f32s(at + mesh::UV_SCALE.start, &uv_scale);
             let bytes: Vec<u8> = uvs
                 .iter()
-                .flat_map(|uv| (0..2).flat_map(move |k| quantize(uv[k], uv_offset[k], uv_scale[k]).to_le_bytes()))
+                .flat_map(|uv| {
+                    (0..2)
+                        .flat_map(move |k| quantize(uv[k], uv_offset[k], uv_scale[k]).to_le_bytes())
+                })
                 .collect();
             let o = out.append(&bytes);
             out.put_u32(at + mesh::UVS.start, o);
@@ -1388,13 +1649,24 @@ mod emit {
         let indices: Vec<u8> = if wide {
             m.indices.iter().flat_map(|i| i.to_le_bytes()).collect()
         } else {
-            m.indices.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect()
+            m.indices
+                .iter()
+                .flat_map(|&i| (i as u16).to_le_bytes())
+                .collect()
         };
         let o = out.append(&indices);
         out.put_u32(at + mesh::INDICES.start, o);
 
-        let whole = [scene::SubMeshData { material: None, index_start: 0, index_count: m.indices.len() as u32 }];
-        let subs = if m.submeshes.is_empty() { &whole[..] } else { &m.submeshes[..] };
+        let whole = [scene::SubMeshData {
+            material: None,
+            index_start: 0,
+            index_count: m.indices.len() as u32,
+        }];
+        let subs = if m.submeshes.is_empty() {
+            &whole[..]
+        } else {
+            &m.submeshes[..]
+        };
         let n_sub = count_u16(subs.len(), "sub-meshes")?;
         out.put_u16(at + mesh::SUBMESH_COUNT.start, n_sub);
         let s_at = out.reserve(subs.len() * submesh::LEN);
@@ -1402,7 +1674,10 @@ mod emit {
         for (k, s) in subs.iter().enumerate() {
             let r = s_at + k * submesh::LEN;
             if s.material.is_some_and(|mi| mi as usize >= n_materials) {
-                return Err(fail(std::format!("sub-mesh {k}: material {:?} does not exist", s.material)));
+                return Err(fail(std::format!(
+                    "sub-mesh {k}: material {:?} does not exist",
+                    s.material
+                )));
             }
             out.put_u16(r + submesh::MATERIAL.start, s.material.unwrap_or(NONE));
             out.put_u32(r + submesh::INDEX_START.start, s.index_start);
@@ -1416,10 +1691,18 @@ mod emit {
         libm::floorf(v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
     }
 
-    fn emit_material(out: &mut Out, at: usize, m: &scene::MaterialData, n_textures: usize) -> Result<(), EmitError> {
+    fn emit_material(
+        out: &mut Out,
+        at: usize,
+        m: &scene::MaterialData,
+        n_textures: usize,
+    ) -> Result<(), EmitError> {
         let [r, g, b] = m.diffuse.map(unit_to_u8);
         out.put(at + material::RGBA.start, &[r, g, b, unit_to_u8(m.alpha)]);
-        out.put(at + material::FLAGS, &[u8::from(m.back_face_culling) * material::FLAG_CULL_BACK]);
+        out.put(
+            at + material::FLAGS,
+            &[u8::from(m.back_face_culling) * material::FLAG_CULL_BACK],
+        );
         let wrap = |w: scene::Wrap| match w {
             scene::Wrap::Clamp => Wrap::Clamp as u8,
             scene::Wrap::Repeat => Wrap::Repeat as u8,
@@ -1427,16 +1710,31 @@ mod emit {
         };
         out.put(at + material::WRAP_U, &[wrap(m.wrap_u), wrap(m.wrap_v)]);
         if m.texture.is_some_and(|t| t as usize >= n_textures) {
-            return Err(EmitError(std::format!("material \"{}\": texture {:?} does not exist", m.name, m.texture)));
+            return Err(EmitError(std::format!(
+                "material \"{}\": texture {:?} does not exist",
+                m.name,
+                m.texture
+            )));
         }
         out.put_u16(at + material::TEXTURE.start, m.texture.unwrap_or(NONE));
         Ok(())
     }
 
-    fn emit_texture(out: &mut Out, at: usize, t: &scene::TextureData, opts: &EmitOptions) -> Result<(), EmitError> {
+    fn emit_texture(
+        out: &mut Out,
+        at: usize,
+        t: &scene::TextureData,
+        opts: &EmitOptions,
+    ) -> Result<(), EmitError> {
         let (w, h) = (t.width as usize, t.height as usize);
         if w == 0 || h == 0 || t.rgba.len() != w * h * 4 {
-            return Err(EmitError(std::format!("texture \"{}\": {}x{} with {} bytes", t.name, w, h, t.rgba.len())));
+            return Err(EmitError(std::format!(
+                "texture \"{}\": {}x{} with {} bytes",
+                t.name,
+                w,
+                h,
+                t.rgba.len()
+            )));
         }
         let format = match opts.textures {
             TextureChoice::Fixed(f) => f,
@@ -1453,7 +1751,11 @@ mod emit {
             .chunks_exact(w * 4)
             .rev()
             .flat_map(|row| row.chunks_exact(4))
-            .flat_map(|c| encode_texel(format, [c[0], c[1], c[2], c[3]]).into_iter().take(n))
+            .flat_map(|c| {
+                encode_texel(format, [c[0], c[1], c[2], c[3]])
+                    .into_iter()
+                    .take(n)
+            })
             .collect();
         let o = out.append(&texels);
         out.put_u32(at + texture::DATA.start, o);

@@ -50,7 +50,13 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        Self { shading: Shading::Gouraud, mode: Mode::Solid, filter: Filter::Nearest, subspan: 1, textures: true }
+        Self {
+            shading: Shading::Gouraud,
+            mode: Mode::Solid,
+            filter: Filter::Nearest,
+            subspan: 1,
+            textures: true,
+        }
     }
 }
 
@@ -139,7 +145,10 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
     lights: &Lights<L>,
     opts: &RenderOptions,
 ) -> Stats {
-    let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
+    let mut stats = Stats {
+        triangles_submitted: mesh.triangle_count(),
+        ..Stats::default()
+    };
     let vp = camera.view_projection();
     if !sphere_visible(&vp, &world, mesh.bounding_sphere()) {
         stats.culled_frustum_mesh = mesh.triangle_count();
@@ -152,7 +161,10 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
         model_q,
         normals: normal_matrix(&world),
         flip: Mat3::from_mat4(world).determinant() < 0.0,
-        planes: Planes { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
+        planes: Planes {
+            gx: GUARD_HALF_EXTENT / (w * 0.5),
+            gy: GUARD_HALF_EXTENT / (h * 0.5),
+        },
         window: Window {
             width: band.width as i32,
             row_start: band.first_row as i32,
@@ -163,7 +175,10 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
         mesh: *mesh,
     };
     for sub in mesh.submeshes() {
-        let material = sub.material.and_then(|m| model.material(m)).unwrap_or_default();
+        let material = sub
+            .material
+            .and_then(|m| model.material(m))
+            .unwrap_or_default();
         let sampler = material
             .texture
             .filter(|_| opts.textures && mesh.has_uvs())
@@ -171,7 +186,16 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
             .map(|t| Sampler::new(t, material.wrap_u, material.wrap_v, opts.filter));
         let first = sub.first_triangle;
         for t in first..first + sub.triangle_count {
-            draw_triangle(band, &setup, t, &material, sampler.as_ref(), lights, opts, &mut stats);
+            draw_triangle(
+                band,
+                &setup,
+                t,
+                &material,
+                sampler.as_ref(),
+                lights,
+                opts,
+                &mut stats,
+            );
         }
     }
     stats
@@ -186,7 +210,14 @@ fn sphere_visible(vp: &Mat4, world: &Mat4, (centre, radius): (Vec3, f32)) -> boo
         .fold(0.0f32, f32::max);
     let r = radius * scale;
     let rows = [vp.row(0), vp.row(1), vp.row(2), vp.row(3)];
-    let planes = [rows[3] + rows[0], rows[3] - rows[0], rows[3] + rows[1], rows[3] - rows[1], rows[3] + rows[2], rows[3] - rows[2]];
+    let planes = [
+        rows[3] + rows[0],
+        rows[3] - rows[0],
+        rows[3] + rows[1],
+        rows[3] - rows[1],
+        rows[3] + rows[2],
+        rows[3] - rows[2],
+    ];
     planes.iter().all(|p| {
         let n = p.truncate().length();
         // A NaN anywhere makes this comparison false: draw, and let clipping cull per triangle.
@@ -206,15 +237,16 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     stats: &mut Stats,
 ) {
     let idx = s.mesh.triangle(t);
-    let q = idx.map(|i| s.mesh.position_q(i));
-    let qv = q.map(|q| Vec4::new(q[0] as f32, q[1] as f32, q[2] as f32, 1.0));
+    let qv = idx.map(|i| s.mesh.position_stored(i).extend(1.0));
     let clip = qv.map(|p| s.mvp * p);
     if crate::clip::outside_view(clip) || !clip.iter().all(|c| c.is_finite()) {
         stats.culled_frustum += 1;
         return;
     }
     let lit = vertex_light(s, &idx, &qv, lights, opts.shading);
-    let tex_size = sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * ONE, sm.height() as f32 * ONE));
+    let tex_size = sampler.map_or((0.0, 0.0), |sm| {
+        (sm.width() as f32 * ONE, sm.height() as f32 * ONE)
+    });
     let tri: [ClipVertex; 3] = core::array::from_fn(|k| {
         let uv = s.mesh.uv_q(idx[k]);
         let (o, sc) = s.uv;
@@ -225,7 +257,10 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         for ch in 0..3 {
             varyings[LIGHT + ch] = lit[k][ch] * (c[ch] as f32 / 255.0) * ONE;
         }
-        ClipVertex { pos: clip[k], varyings }
+        ClipVertex {
+            pos: clip[k],
+            varyings,
+        }
     });
     let mut poly = Polygon::new();
     match clip_triangle(&tri, &s.planes, &mut poly) {
@@ -238,7 +273,8 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         }
         ClipResult::Clipped => stats.clipped += 1,
     }
-    let screen: heapless::Vec<ScreenVertex, { crate::clip::MAX_CLIPPED }> = poly.iter().map(|v| project(v, s.half)).collect();
+    let screen: heapless::Vec<ScreenVertex, { crate::clip::MAX_CLIPPED }> =
+        poly.iter().map(|v| project(v, s.half)).collect();
     match opts.mode {
         Mode::Solid => {
             for k in 1..screen.len() - 1 {
@@ -249,7 +285,16 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         Mode::Wireframe | Mode::Points => {
             // Cull as a filled triangle would, then draw the outline or corners.
             let tri = [screen[0], screen[1], screen[2]];
-            if let Err(r) = Setup::<0>::new(&tri, &Window { width: band.width as i32, row_start: 0, row_end: band.height as i32 }, material.cull_back_faces, s.flip) {
+            if let Err(r) = Setup::<0>::new(
+                &tri,
+                &Window {
+                    width: band.width as i32,
+                    row_start: 0,
+                    row_end: band.height as i32,
+                },
+                material.cull_back_faces,
+                s.flip,
+            ) {
                 if r != Reject::Empty {
                     count_reject(r, stats);
                     return;
@@ -261,7 +306,13 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
                 if opts.mode == Mode::Points {
                     plot(band, &screen[k], color, stats);
                 } else {
-                    line(band, &screen[k], &screen[(k + 1) % screen.len()], color, stats);
+                    line(
+                        band,
+                        &screen[k],
+                        &screen[(k + 1) % screen.len()],
+                        color,
+                        stats,
+                    );
                 }
             }
         }
@@ -277,7 +328,13 @@ fn count_reject(r: Reject, stats: &mut Stats) {
 }
 
 /// Light (0..=1 per channel) at each vertex of triangle `idx` for the shading mode.
-fn vertex_light<const L: usize>(s: &DrawSetup<'_>, idx: &[u32; 3], qv: &[Vec4; 3], lights: &Lights<L>, shading: Shading) -> [Vec3; 3] {
+fn vertex_light<const L: usize>(
+    s: &DrawSetup<'_>,
+    idx: &[u32; 3],
+    qv: &[Vec4; 3],
+    lights: &Lights<L>,
+    shading: Shading,
+) -> [Vec3; 3] {
     let world = |k: usize| (s.model_q * qv[k]).truncate();
     match shading {
         Shading::Unlit => [Vec3::ONE; 3],
@@ -305,7 +362,7 @@ fn project(v: &ClipVertex, (hw, hh): (f32, f32)) -> ScreenVertex {
     let inv_w = 1.0 / v.pos.w;
     let x = (v.pos.x * inv_w + 1.0) * hw;
     let y = (1.0 - v.pos.y * inv_w) * hh;
-    let snap = |p: f32| crate::math::floor(p * 16.0 + 0.5) as i32;
+    let snap = |p: f32| crate::math::floor(p * 16.0) as i32;
     ScreenVertex {
         x: snap(x),
         y: snap(y),
@@ -361,7 +418,14 @@ fn fill<C: FrameColor, D: DepthBuffer>(
 }
 
 /// Writes one pixel at integer pixel `(x, y)` if it is in the band and passes depth.
-fn put<C: FrameColor, D: DepthBuffer>(band: &mut Band<'_, C, D>, x: i32, y: i32, z: u32, c: C, stats: &mut Stats) {
+fn put<C: FrameColor, D: DepthBuffer>(
+    band: &mut Band<'_, C, D>,
+    x: i32,
+    y: i32,
+    z: u32,
+    c: C,
+    stats: &mut Stats,
+) {
     let row = y - band.first_row as i32;
     if x < 0 || x >= band.width as i32 || row < 0 || row >= band.rows as i32 {
         return;
@@ -382,14 +446,29 @@ fn depth_q30(z: f32) -> u32 {
     (z * (1u32 << 30) as f32) as u32
 }
 
-fn plot<C: FrameColor, D: DepthBuffer>(band: &mut Band<'_, C, D>, p: &ScreenVertex, c: C, stats: &mut Stats) {
+fn plot<C: FrameColor, D: DepthBuffer>(
+    band: &mut Band<'_, C, D>,
+    p: &ScreenVertex,
+    c: C,
+    stats: &mut Stats,
+) {
     put(band, p.x >> 4, p.y >> 4, depth_q30(p.z), c, stats);
 }
 
 /// Bresenham line between pixel centres, endpoints in canonical order so that an edge shared
 /// by two triangles lights the same pixels, walked whole in every band so bands agree.
-fn line<C: FrameColor, D: DepthBuffer>(band: &mut Band<'_, C, D>, a: &ScreenVertex, b: &ScreenVertex, c: C, stats: &mut Stats) {
-    let (a, b) = if (a.x, a.y) <= (b.x, b.y) { (a, b) } else { (b, a) };
+fn line<C: FrameColor, D: DepthBuffer>(
+    band: &mut Band<'_, C, D>,
+    a: &ScreenVertex,
+    b: &ScreenVertex,
+    c: C,
+    stats: &mut Stats,
+) {
+    let (a, b) = if (a.x, a.y) <= (b.x, b.y) {
+        (a, b)
+    } else {
+        (b, a)
+    };
     let (x0, y0, x1, y1) = (a.x >> 4, a.y >> 4, b.x >> 4, b.y >> 4);
     let (dx, dy) = ((x1 - x0).abs(), -(y1 - y0).abs());
     let (sx, sy) = (if x0 < x1 { 1 } else { -1 }, if y0 < y1 { 1 } else { -1 });
