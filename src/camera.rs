@@ -26,9 +26,7 @@ pub enum CameraError {
 impl core::fmt::Display for CameraError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.write_str(match self {
-            CameraError::BadLookAt => {
-                "camera: eye equals target, looks straight up/down, or is not finite"
-            }
+            CameraError::BadLookAt => "camera: eye equals target, looks straight up/down, or is not finite",
             CameraError::BadProjection => "camera: field of view, aspect, near or far out of range",
         })
     }
@@ -62,11 +60,7 @@ impl Camera {
             return Err(CameraError::BadProjection);
         }
         let view = look_at(eye, target)?;
-        Ok(Camera {
-            view,
-            projection: perspective_lh(fov_y, aspect, near, far),
-            eye,
-        })
+        Ok(Camera { view, projection: perspective_lh(fov_y, aspect, near, far), eye })
     }
 
     /// An orthographic camera showing a `width` x `height` (world units) window.
@@ -91,11 +85,7 @@ impl Camera {
             return Err(CameraError::BadProjection);
         }
         let view = look_at(eye, target)?;
-        Ok(Camera {
-            view,
-            projection: orthographic_lh(width, height, near, far),
-            eye,
-        })
+        Ok(Camera { view, projection: orthographic_lh(width, height, near, far), eye })
     }
 
     /// The camera stored in a scene, for a frame of the given aspect ratio.

@@ -49,14 +49,7 @@ impl Planes {
     /// Signed distances (inside >= 0) to the six clipping planes.
     #[inline]
     fn distances(&self, p: Vec4) -> [f32; 6] {
-        [
-            p.z + p.w,
-            p.w - p.z,
-            self.gx * p.w + p.x,
-            self.gx * p.w - p.x,
-            self.gy * p.w + p.y,
-            self.gy * p.w - p.y,
-        ]
+        [p.z + p.w, p.w - p.z, self.gx * p.w + p.x, self.gx * p.w - p.x, self.gy * p.w + p.y, self.gy * p.w - p.y]
     }
 }
 
@@ -77,9 +70,7 @@ pub fn outside_view(p: [Vec4; 3]) -> bool {
 /// Clips triangle `tri` into `out`.
 pub fn clip_triangle(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) -> ClipResult {
     out.clear();
-    let finite = tri
-        .iter()
-        .all(|v| v.pos.is_finite() && v.varyings.iter().all(|a| a.is_finite()));
+    let finite = tri.iter().all(|v| v.pos.is_finite() && v.varyings.iter().all(|a| a.is_finite()));
     if !finite || outside_view([tri[0].pos, tri[1].pos, tri[2].pos]) {
         return ClipResult::Outside;
     }
@@ -111,11 +102,7 @@ fn clip_polygon(input: &Polygon, output: &mut Polygon, dist: impl Fn(&ClipVertex
             let _ = output.push(*a);
         }
         if (da >= 0.0) != (db >= 0.0) {
-            let (inside, outside, di, dout) = if da >= 0.0 {
-                (a, b, da, db)
-            } else {
-                (b, a, db, da)
-            };
+            let (inside, outside, di, dout) = if da >= 0.0 { (a, b, da, db) } else { (b, a, db, da) };
             let t = di / (di - dout);
             let _ = output.push(lerp(inside, outside, t));
         }
@@ -134,10 +121,7 @@ mod tests {
     use super::*;
 
     fn v(x: f32, y: f32, z: f32, w: f32) -> ClipVertex {
-        ClipVertex {
-            pos: Vec4::new(x, y, z, w),
-            varyings: [0.0; MAX_VARYINGS],
-        }
+        ClipVertex { pos: Vec4::new(x, y, z, w), varyings: [0.0; MAX_VARYINGS] }
     }
 
     #[test]
@@ -145,33 +129,19 @@ mod tests {
         let planes = Planes { gx: 4.0, gy: 4.0 };
         let mut out = Polygon::new();
         // Vertex 2 is behind the eye (w < 0): the near plane z >= -w keeps a quad.
-        let tri = [
-            v(0.0, 0.0, 0.5, 1.0),
-            v(0.5, 0.0, 0.5, 1.0),
-            v(0.0, 0.5, -2.0, -1.0),
-        ];
+        let tri = [v(0.0, 0.0, 0.5, 1.0), v(0.5, 0.0, 0.5, 1.0), v(0.0, 0.5, -2.0, -1.0)];
         assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Clipped);
         assert_eq!(out.len(), 4);
-        assert!(out
-            .iter()
-            .all(|p| p.pos.z + p.pos.w >= -1e-6 && p.pos.w > 0.0));
+        assert!(out.iter().all(|p| p.pos.z + p.pos.w >= -1e-6 && p.pos.w > 0.0));
     }
 
     #[test]
     fn nan_and_fully_behind_are_outside() {
         let planes = Planes { gx: 4.0, gy: 4.0 };
         let mut out = Polygon::new();
-        let tri = [
-            v(f32::NAN, 0.0, 0.5, 1.0),
-            v(0.5, 0.0, 0.5, 1.0),
-            v(0.0, 0.5, 0.5, 1.0),
-        ];
+        let tri = [v(f32::NAN, 0.0, 0.5, 1.0), v(0.5, 0.0, 0.5, 1.0), v(0.0, 0.5, 0.5, 1.0)];
         assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Outside);
-        let tri = [
-            v(0.0, 0.0, -2.0, -1.0),
-            v(0.5, 0.0, -2.0, -1.0),
-            v(0.0, 0.5, -2.0, -1.0),
-        ];
+        let tri = [v(0.0, 0.0, -2.0, -1.0), v(0.5, 0.0, -2.0, -1.0), v(0.0, 0.5, -2.0, -1.0)];
         assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Outside);
     }
 }

@@ -21,10 +21,8 @@ where
     D: DepthBuffer,
     T: DrawTarget<Color = C>,
 {
-    let area = Rectangle::new(
-        Point::new(0, band.first_row() as i32),
-        Size::new(band.width() as u32, band.rows() as u32),
-    );
+    let area =
+        Rectangle::new(Point::new(0, band.first_row() as i32), Size::new(band.width() as u32, band.rows() as u32));
     display.fill_contiguous(&area, band.pixels().iter().copied())
 }
 

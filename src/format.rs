@@ -81,7 +81,7 @@
 use core::fmt;
 use core::ops::Range;
 
-use crate::math::{Mat4, Vec3, Vec4};
+use crate::math::{Mat4, Vec3};
 
 /// The first four bytes of every `.s3d` file.
 pub const MAGIC: [u8; 4] = *b"S3D\0";
@@ -324,37 +324,20 @@ impl fmt::Display for ParseError {
             }
             ParseError::BadMagic => f.write_str("not an .s3d file (bad magic at offset 0)"),
             ParseError::UnsupportedVersion(v) => {
-                write!(
-                    f,
-                    "unsupported .s3d version {v} at offset 4 (this reader knows {VERSION})"
-                )
+                write!(f, "unsupported .s3d version {v} at offset 4 (this reader knows {VERSION})")
             }
             ParseError::OutOfBounds { part, offset } => {
-                write!(
-                    f,
-                    "{part} referenced at offset {offset} lies outside the file"
-                )
+                write!(f, "{part} referenced at offset {offset} lies outside the file")
             }
             ParseError::NotFinite { part, offset } => {
                 write!(f, "{part}: non-finite number at offset {offset}")
             }
-            ParseError::IndexOutOfRange {
-                offset,
-                index,
-                vertex_count,
-            } => write!(
-                f,
-                "indices: index {index} at offset {offset} but only {vertex_count} vertices"
-            ),
-            ParseError::BadReference {
-                part,
-                offset,
-                index,
-                count,
-            } => write!(
-                f,
-                "{part}: reference {index} at offset {offset} but only {count} exist"
-            ),
+            ParseError::IndexOutOfRange { offset, index, vertex_count } => {
+                write!(f, "indices: index {index} at offset {offset} but only {vertex_count} vertices")
+            }
+            ParseError::BadReference { part, offset, index, count } => {
+                write!(f, "{part}: reference {index} at offset {offset} but only {count} exist")
+            }
             ParseError::Invalid { part, offset } => {
                 write!(f, "{part}: invalid value at offset {offset}")
             }
@@ -370,9 +353,7 @@ impl std::error::Error for ParseError {}
 // has checked beforehand that no accessor of a valid `Model` ever reads past the end.
 
 fn bytes_at<const N: usize>(data: &[u8], at: usize) -> [u8; N] {
-    data.get(at..at.wrapping_add(N))
-        .and_then(|s| s.try_into().ok())
-        .unwrap_or([0; N])
+    data.get(at..at.wrapping_add(N)).and_then(|s| s.try_into().ok()).unwrap_or([0; N])
 }
 fn u16_at(data: &[u8], at: usize) -> u16 {
     u16::from_le_bytes(bytes_at(data, at))
@@ -395,25 +376,14 @@ fn vec3_at(data: &[u8], at: usize) -> Vec3 {
 /// Reads 12 floats: Babylon rows 0..3, columns 0..2, as a glam matrix.
 fn affine_at(data: &[u8], at: usize) -> Mat4 {
     let row = |r: usize| vec3_at(data, at + r * 12);
-    Mat4::from_cols(
-        row(0).extend(0.0),
-        row(1).extend(0.0),
-        row(2).extend(0.0),
-        row(3).extend(1.0),
-    )
+    Mat4::from_cols(row(0).extend(0.0), row(1).extend(0.0), row(2).extend(0.0), row(3).extend(1.0))
 }
 
 // ---------------------------------------------------------------------------------------------
 // Validation helpers used by `parse`.
 
 /// Checks that `len` bytes at `start` lie in a file of `file_len` bytes and returns the range.
-fn section(
-    start: u32,
-    len: usize,
-    file_len: usize,
-    part: Part,
-    at: usize,
-) -> Result<Range<usize>, ParseError> {
+fn section(start: u32, len: usize, file_len: usize, part: Part, at: usize) -> Result<Range<usize>, ParseError> {
     let start = start as usize;
     match start.checked_add(len) {
         Some(end) if end <= file_len => Ok(start..end),
@@ -431,23 +401,12 @@ fn check_finite(data: &[u8], range: Range<usize>, part: Part) -> Result<(), Pars
     Ok(())
 }
 
-fn check_ref(
-    data: &[u8],
-    at: usize,
-    count: u16,
-    part: Part,
-    allow_none: bool,
-) -> Result<(), ParseError> {
+fn check_ref(data: &[u8], at: usize, count: u16, part: Part, allow_none: bool) -> Result<(), ParseError> {
     let index = u16_at(data, at);
     if index < count || (allow_none && index == NONE) {
         Ok(())
     } else {
-        Err(ParseError::BadReference {
-            part,
-            offset: at,
-            index,
-            count,
-        })
+        Err(ParseError::BadReference { part, offset: at, index, count })
     }
 }
 
@@ -561,10 +520,7 @@ impl<'a> Model<'a> {
     /// A [`ParseError`] naming the first problem found and its byte offset.
     pub fn parse(data: &'a [u8]) -> Result<Self, ParseError> {
         if data.len() < header::LEN {
-            return Err(ParseError::Truncated {
-                expected: header::LEN,
-                actual: data.len(),
-            });
+            return Err(ParseError::Truncated { expected: header::LEN, actual: data.len() });
         }
         if data[header::MAGIC] != MAGIC {
             return Err(ParseError::BadMagic);
@@ -575,10 +531,7 @@ impl<'a> Model<'a> {
         }
         let file_len = u32_at(data, header::FILE_LEN.start) as usize;
         if file_len != data.len() {
-            return Err(ParseError::Truncated {
-                expected: file_len,
-                actual: data.len(),
-            });
+            return Err(ParseError::Truncated { expected: file_len, actual: data.len() });
         }
         let model = Model { data };
         model.validate()?;
@@ -611,70 +564,30 @@ impl<'a> Model<'a> {
         for at in meshes.step_by(mesh::LEN) {
             self.validate_mesh(at, n_materials)?;
         }
-        let materials = self.table(
-            header::MATERIALS,
-            header::MATERIAL_COUNT,
-            material::LEN,
-            Part::Material,
-        )?;
+        let materials = self.table(header::MATERIALS, header::MATERIAL_COUNT, material::LEN, Part::Material)?;
         for at in materials.step_by(material::LEN) {
-            check_ref(
-                d,
-                at + material::TEXTURE.start,
-                n_textures,
-                Part::Material,
-                true,
-            )?;
+            check_ref(d, at + material::TEXTURE.start, n_textures, Part::Material, true)?;
             for wrap in [material::WRAP_U, material::WRAP_V] {
                 if Wrap::from_u8(u8_at(d, at + wrap)).is_none() {
                     return Err(invalid(Part::Material, at + wrap));
                 }
             }
         }
-        let textures = self.table(
-            header::TEXTURES,
-            header::TEXTURE_COUNT,
-            texture::LEN,
-            Part::Texture,
-        )?;
+        let textures = self.table(header::TEXTURES, header::TEXTURE_COUNT, texture::LEN, Part::Texture)?;
         for at in textures.step_by(texture::LEN) {
             let format = TextureFormat::from_u8(u8_at(d, at + texture::FORMAT))
                 .ok_or(invalid(Part::Texture, at + texture::FORMAT))?;
-            let (w, h) = (
-                u16_at(d, at + texture::WIDTH.start),
-                u16_at(d, at + texture::HEIGHT.start),
-            );
+            let (w, h) = (u16_at(d, at + texture::WIDTH.start), u16_at(d, at + texture::HEIGHT.start));
             if w == 0 || h == 0 {
                 return Err(invalid(Part::Texture, at));
             }
             let len = w as usize * h as usize * format.bytes_per_texel();
-            section(
-                u32_at(d, at + texture::DATA.start),
-                len,
-                d.len(),
-                Part::Texture,
-                at + texture::DATA.start,
-            )?;
+            section(u32_at(d, at + texture::DATA.start), len, d.len(), Part::Texture, at + texture::DATA.start)?;
         }
-        let instances = self.table(
-            header::INSTANCES,
-            header::INSTANCE_COUNT,
-            instance::LEN,
-            Part::Instance,
-        )?;
+        let instances = self.table(header::INSTANCES, header::INSTANCE_COUNT, instance::LEN, Part::Instance)?;
         for at in instances.step_by(instance::LEN) {
-            check_ref(
-                d,
-                at + instance::MESH.start,
-                n_meshes,
-                Part::Instance,
-                false,
-            )?;
-            check_finite(
-                d,
-                at + instance::WORLD.start..at + instance::WORLD.end,
-                Part::Instance,
-            )?;
+            check_ref(d, at + instance::MESH.start, n_meshes, Part::Instance, false)?;
+            check_finite(d, at + instance::WORLD.start..at + instance::WORLD.end, Part::Instance)?;
         }
         let lights = self.table(header::LIGHTS, header::LIGHT_COUNT, light::LEN, Part::Light)?;
         for at in lights.step_by(light::LEN) {
@@ -685,20 +598,11 @@ impl<'a> Model<'a> {
         }
         let camera_at = u32_at(d, header::CAMERA.start);
         if camera_at != 0 {
-            let cam = section(
-                camera_at,
-                camera::LEN,
-                d.len(),
-                Part::Camera,
-                header::CAMERA.start,
-            )?;
+            let cam = section(camera_at, camera::LEN, d.len(), Part::Camera, header::CAMERA.start)?;
             check_finite(d, cam.clone(), Part::Camera)?;
             let c = cam.start;
-            let (fov, near, far) = (
-                f32_at(d, c + camera::FOV.start),
-                f32_at(d, c + camera::NEAR.start),
-                f32_at(d, c + camera::FAR.start),
-            );
+            let (fov, near, far) =
+                (f32_at(d, c + camera::FOV.start), f32_at(d, c + camera::NEAR.start), f32_at(d, c + camera::FAR.start));
             if !(fov > 0.0 && fov < core::f32::consts::PI && near > 0.0 && far > near) {
                 return Err(invalid(Part::Camera, c + camera::FOV.start));
             }
@@ -710,10 +614,7 @@ impl<'a> Model<'a> {
         let d = self.data;
         check_finite(d, at..at + mesh::BOUNDS.end, Part::Mesh)?;
         let nonneg = |r: Range<usize>| r.step_by(4).all(|o| f32_at(d, at + o) >= 0.0);
-        if !nonneg(mesh::POS_SCALE)
-            || !nonneg(mesh::UV_SCALE)
-            || f32_at(d, at + mesh::BOUNDS.end - 4) < 0.0
-        {
+        if !nonneg(mesh::POS_SCALE) || !nonneg(mesh::UV_SCALE) || f32_at(d, at + mesh::BOUNDS.end - 4) < 0.0 {
             return Err(invalid(Part::Mesh, at + mesh::POS_SCALE.start));
         }
         let vertices = u32_at(d, at + mesh::VERTEX_COUNT.start);
@@ -726,11 +627,7 @@ impl<'a> Model<'a> {
         let field = |f: Range<usize>| (u32_at(d, at + f.start), at + f.start);
         let (o, r) = field(mesh::POSITIONS);
         if flags & mesh::FLAG_F32_POSITIONS != 0 {
-            check_finite(
-                d,
-                section(o, nv * 12, d.len(), Part::Positions, r)?,
-                Part::Positions,
-            )?;
+            check_finite(d, section(o, nv * 12, d.len(), Part::Positions, r)?, Part::Positions)?;
         } else {
             section(o, nv * POSITION_LEN, d.len(), Part::Positions, r)?;
         }
@@ -745,35 +642,17 @@ impl<'a> Model<'a> {
             section(o, nv * COLOR_LEN, d.len(), Part::Colors, r)?;
         }
         let (o, r) = field(mesh::NAME);
-        let name = section(
-            o,
-            u16_at(d, at + mesh::NAME_LEN.start) as usize,
-            d.len(),
-            Part::Name,
-            r,
-        )?;
+        let name = section(o, u16_at(d, at + mesh::NAME_LEN.start) as usize, d.len(), Part::Name, r)?;
         if core::str::from_utf8(&d[name]).is_err() {
             return Err(invalid(Part::Name, r));
         }
-        let index_len = if flags & mesh::FLAG_U32_INDICES != 0 {
-            4
-        } else {
-            2
-        };
+        let index_len = if flags & mesh::FLAG_U32_INDICES != 0 { 4 } else { 2 };
         let (o, r) = field(mesh::INDICES);
         let index_range = section(o, indices as usize * index_len, d.len(), Part::Indices, r)?;
         for i_at in index_range.step_by(index_len) {
-            let index = if index_len == 4 {
-                u32_at(d, i_at)
-            } else {
-                u16_at(d, i_at) as u32
-            };
+            let index = if index_len == 4 { u32_at(d, i_at) } else { u16_at(d, i_at) as u32 };
             if index >= vertices {
-                return Err(ParseError::IndexOutOfRange {
-                    offset: i_at,
-                    index,
-                    vertex_count: vertices,
-                });
+                return Err(ParseError::IndexOutOfRange { offset: i_at, index, vertex_count: vertices });
             }
         }
         let n_sub = u16_at(d, at + mesh::SUBMESH_COUNT.start) as usize;
@@ -781,15 +660,8 @@ impl<'a> Model<'a> {
             return Err(invalid(Part::Mesh, at + mesh::SUBMESH_COUNT.start));
         }
         let (o, r) = field(mesh::SUBMESHES);
-        for s in section(o, n_sub * submesh::LEN, d.len(), Part::SubMesh, r)?.step_by(submesh::LEN)
-        {
-            check_ref(
-                d,
-                s + submesh::MATERIAL.start,
-                n_materials,
-                Part::SubMesh,
-                true,
-            )?;
+        for s in section(o, n_sub * submesh::LEN, d.len(), Part::SubMesh, r)?.step_by(submesh::LEN) {
+            check_ref(d, s + submesh::MATERIAL.start, n_materials, Part::SubMesh, true)?;
             let start = u32_at(d, s + submesh::INDEX_START.start);
             let count = u32_at(d, s + submesh::INDEX_COUNT.start);
             let in_range = start.checked_add(count).is_some_and(|end| end <= indices);
@@ -806,13 +678,7 @@ impl<'a> Model<'a> {
         self.data
     }
 
-    fn record(
-        &self,
-        table: Range<usize>,
-        count: Range<usize>,
-        len: usize,
-        i: usize,
-    ) -> Option<usize> {
+    fn record(&self, table: Range<usize>, count: Range<usize>, len: usize, i: usize) -> Option<usize> {
         (i < self.count(count) as usize).then(|| u32_at(self.data, table.start) as usize + i * len)
     }
 
@@ -826,10 +692,7 @@ impl<'a> Model<'a> {
     #[must_use]
     pub fn mesh(&self, i: usize) -> Option<Mesh<'a>> {
         let at = self.record(header::MESHES, header::MESH_COUNT, mesh::LEN, i)?;
-        Some(Mesh {
-            data: self.data,
-            at,
-        })
+        Some(Mesh { data: self.data, at })
     }
 
     /// All meshes.
@@ -847,12 +710,7 @@ impl<'a> Model<'a> {
     /// Material `i`, or `None` if out of range (including [`NONE`]).
     #[must_use]
     pub fn material(&self, i: u16) -> Option<Material> {
-        let at = self.record(
-            header::MATERIALS,
-            header::MATERIAL_COUNT,
-            material::LEN,
-            i as usize,
-        )?;
+        let at = self.record(header::MATERIALS, header::MATERIAL_COUNT, material::LEN, i as usize)?;
         let d = self.data;
         let texture = u16_at(d, at + material::TEXTURE.start);
         Some(Material {
@@ -873,24 +731,14 @@ impl<'a> Model<'a> {
     /// Texture `i`, or `None` if out of range.
     #[must_use]
     pub fn texture(&self, i: u16) -> Option<Texture<'a>> {
-        let at = self.record(
-            header::TEXTURES,
-            header::TEXTURE_COUNT,
-            texture::LEN,
-            i as usize,
-        )?;
+        let at = self.record(header::TEXTURES, header::TEXTURE_COUNT, texture::LEN, i as usize)?;
         let d = self.data;
         let width = u16_at(d, at + texture::WIDTH.start);
         let height = u16_at(d, at + texture::HEIGHT.start);
         let format = TextureFormat::from_u8(u8_at(d, at + texture::FORMAT))?;
         let start = u32_at(d, at + texture::DATA.start) as usize;
         let len = width as usize * height as usize * format.bytes_per_texel();
-        Some(Texture {
-            width,
-            height,
-            format,
-            texels: d.get(start..start + len)?,
-        })
+        Some(Texture { width, height, format, texels: d.get(start..start + len)? })
     }
 
     /// Number of instances.
@@ -903,10 +751,7 @@ impl<'a> Model<'a> {
     #[must_use]
     pub fn instance(&self, i: usize) -> Option<(usize, Mat4)> {
         let at = self.record(header::INSTANCES, header::INSTANCE_COUNT, instance::LEN, i)?;
-        Some((
-            u16_at(self.data, at) as usize,
-            affine_at(self.data, at + instance::WORLD.start),
-        ))
+        Some((u16_at(self.data, at) as usize, affine_at(self.data, at + instance::WORLD.start)))
     }
 
     /// Everything to draw: each mesh with its own world matrix, then each instance.
@@ -989,10 +834,7 @@ impl<'a> Mesh<'a> {
     pub fn name(&self) -> &'a str {
         let start = self.u32_field(mesh::NAME) as usize;
         let len = u16_at(self.data, self.at + mesh::NAME_LEN.start) as usize;
-        self.data
-            .get(start..start + len)
-            .and_then(|b| core::str::from_utf8(b).ok())
-            .unwrap_or("")
+        self.data.get(start..start + len).and_then(|b| core::str::from_utf8(b).ok()).unwrap_or("")
     }
 
     /// The mesh's world matrix.
@@ -1015,14 +857,8 @@ impl<'a> Mesh<'a> {
         let d = self.data;
         let a = self.at;
         (
-            [
-                f32_at(d, a + mesh::UV_OFFSET.start),
-                f32_at(d, a + mesh::UV_OFFSET.start + 4),
-            ],
-            [
-                f32_at(d, a + mesh::UV_SCALE.start),
-                f32_at(d, a + mesh::UV_SCALE.start + 4),
-            ],
+            [f32_at(d, a + mesh::UV_OFFSET.start), f32_at(d, a + mesh::UV_OFFSET.start + 4)],
+            [f32_at(d, a + mesh::UV_SCALE.start), f32_at(d, a + mesh::UV_SCALE.start + 4)],
         )
     }
 
@@ -1078,11 +914,7 @@ impl<'a> Mesh<'a> {
             vec3_at(self.data, base + i as usize * 12)
         } else {
             let at = base + i as usize * POSITION_LEN;
-            let q = [
-                u16_at(self.data, at),
-                u16_at(self.data, at + 2),
-                u16_at(self.data, at + 4),
-            ];
+            let q = [u16_at(self.data, at), u16_at(self.data, at + 2), u16_at(self.data, at + 4)];
             Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32)
         }
     }
@@ -1097,11 +929,7 @@ impl<'a> Mesh<'a> {
     #[must_use]
     pub fn normal_q(&self, i: u32) -> [i16; 3] {
         let at = self.u32_field(mesh::NORMALS) as usize + i as usize * NORMAL_LEN;
-        [
-            i16_at(self.data, at),
-            i16_at(self.data, at + 2),
-            i16_at(self.data, at + 4),
-        ]
+        [i16_at(self.data, at), i16_at(self.data, at + 2), i16_at(self.data, at + 4)]
     }
 
     /// Local normal of vertex `i` (unit length up to quantization).
@@ -1135,10 +963,7 @@ impl<'a> Mesh<'a> {
         if !self.has_colors() {
             return [255; 4];
         }
-        bytes_at(
-            self.data,
-            self.u32_field(mesh::COLORS) as usize + i as usize * COLOR_LEN,
-        )
+        bytes_at(self.data, self.u32_field(mesh::COLORS) as usize + i as usize * COLOR_LEN)
     }
 
     /// Index `k` of the index list.
@@ -1155,11 +980,7 @@ impl<'a> Mesh<'a> {
     /// The three vertex indices of triangle `t`.
     #[must_use]
     pub fn triangle(&self, t: u32) -> [u32; 3] {
-        [
-            self.index(3 * t),
-            self.index(3 * t + 1),
-            self.index(3 * t + 2),
-        ]
+        [self.index(3 * t), self.index(3 * t + 1), self.index(3 * t + 2)]
     }
 
     /// The mesh's sub-meshes.
@@ -1197,13 +1018,7 @@ pub struct Material {
 impl Default for Material {
     /// White, opaque, back faces culled, untextured (Babylon's default material).
     fn default() -> Self {
-        Self {
-            rgba: [255; 4],
-            cull_back_faces: true,
-            wrap_u: Wrap::Repeat,
-            wrap_v: Wrap::Repeat,
-            texture: None,
-        }
+        Self { rgba: [255; 4], cull_back_faces: true, wrap_u: Wrap::Repeat, wrap_v: Wrap::Repeat, texture: None }
     }
 }
 
@@ -1245,12 +1060,7 @@ pub fn decode_texel(format: TextureFormat, b: &[u8]) -> [u8; 4] {
     let at = |i: usize| b.get(i).copied().unwrap_or(0);
     let v16 = u16::from_le_bytes([at(0), at(1)]);
     match format {
-        TextureFormat::Rgb565 => [
-            expand(v16 >> 11, 5),
-            expand((v16 >> 5) & 63, 6),
-            expand(v16 & 31, 5),
-            255,
-        ],
+        TextureFormat::Rgb565 => [expand(v16 >> 11, 5), expand((v16 >> 5) & 63, 6), expand(v16 & 31, 5), 255],
         TextureFormat::Rgba5551 => [
             expand(v16 >> 11, 5),
             expand((v16 >> 6) & 31, 5),
@@ -1272,9 +1082,7 @@ pub fn encode_texel(format: TextureFormat, c: [u8; 4]) -> [u8; 4] {
     };
     match format {
         TextureFormat::Rgb565 => lo_hi(q(c[0], 5) << 11 | q(c[1], 6) << 5 | q(c[2], 5)),
-        TextureFormat::Rgba5551 => {
-            lo_hi(q(c[0], 5) << 11 | q(c[1], 5) << 6 | q(c[2], 5) << 1 | u16::from(c[3] >= 128))
-        }
+        TextureFormat::Rgba5551 => lo_hi(q(c[0], 5) << 11 | q(c[1], 5) << 6 | q(c[2], 5) << 1 | u16::from(c[3] >= 128)),
         TextureFormat::Rgb888 => [c[0], c[1], c[2], 0],
         TextureFormat::Rgba8888 => c,
     }
@@ -1423,10 +1231,7 @@ mod emit {
     fn bounding_sphere(positions: &[[f32; 3]]) -> [f32; 4] {
         let (lo, scale) = quantizer(positions.iter().copied());
         let centre = Vec3::from(lo) + Vec3::from(scale) * (QUANT_MAX / 2.0);
-        let radius = positions
-            .iter()
-            .map(|p| (Vec3::from(*p) - centre).length())
-            .fold(0.0f32, f32::max);
+        let radius = positions.iter().map(|p| (Vec3::from(*p) - centre).length()).fold(0.0f32, f32::max);
         // Grow by the quantization error so the sphere holds the decoded positions too.
         let slack = Vec3::from(scale).length();
         [centre.x, centre.y, centre.z, radius + slack]
@@ -1434,17 +1239,10 @@ mod emit {
 
     fn check_finite_scene(scene: &Scene) -> Result<(), EmitError> {
         for m in &scene.meshes {
-            let nums = m
-                .world
-                .iter()
-                .chain(m.positions.iter().flatten())
-                .chain(m.normals.iter().flatten());
+            let nums = m.world.iter().chain(m.positions.iter().flatten()).chain(m.normals.iter().flatten());
             let uvs = m.uvs.iter().flatten().flatten();
             if !nums.chain(uvs).all(|v| v.is_finite()) {
-                return Err(EmitError(std::format!(
-                    "mesh \"{}\": non-finite number",
-                    m.name
-                )));
+                return Err(EmitError(std::format!("mesh \"{}\": non-finite number", m.name)));
             }
         }
         Ok(())
@@ -1474,23 +1272,12 @@ mod emit {
         let meshes = out.reserve(mesh::LEN * scene.meshes.len());
         out.put_u32(header::MESHES.start, meshes as u32);
         for (k, m) in scene.meshes.iter().enumerate() {
-            emit_mesh(
-                &mut out,
-                meshes + k * mesh::LEN,
-                m,
-                scene.materials.len(),
-                opts.float_positions,
-            )?;
+            emit_mesh(&mut out, meshes + k * mesh::LEN, m, scene.materials.len(), opts.float_positions)?;
         }
         let materials = out.reserve(material::LEN * scene.materials.len());
         out.put_u32(header::MATERIALS.start, materials as u32);
         for (k, m) in scene.materials.iter().enumerate() {
-            emit_material(
-                &mut out,
-                materials + k * material::LEN,
-                m,
-                scene.textures.len(),
-            )?;
+            emit_material(&mut out, materials + k * material::LEN, m, scene.textures.len())?;
         }
         let textures = out.reserve(texture::LEN * scene.textures.len());
         out.put_u32(header::TEXTURES.start, textures as u32);
@@ -1501,10 +1288,7 @@ mod emit {
         out.put_u32(header::INSTANCES.start, instances as u32);
         for (k, inst) in scene.instances.iter().enumerate() {
             if inst.mesh as usize >= scene.meshes.len() {
-                return Err(EmitError(std::format!(
-                    "instance {k}: mesh {} does not exist",
-                    inst.mesh
-                )));
+                return Err(EmitError(std::format!("instance {k}: mesh {} does not exist", inst.mesh)));
             }
             let at = instances + k * instance::LEN;
             out.put_u16(at + instance::MESH.start, inst.mesh);
@@ -1526,12 +1310,10 @@ mod emit {
             out.put_f32s(at + camera::TARGET.start, &c.target);
             out.put_f32s(at + camera::FOV.start, &[c.fov, c.near, c.far]);
         }
-        let len =
-            u32::try_from(out.0.len()).map_err(|_| EmitError("scene larger than 4 GiB".into()))?;
+        let len = u32::try_from(out.0.len()).map_err(|_| EmitError("scene larger than 4 GiB".into()))?;
         out.put_u32(header::FILE_LEN.start, len);
         // The writer must only produce what the reader accepts.
-        Model::parse(&out.0)
-            .map_err(|e| EmitError(std::format!("internal error, emitted file invalid: {e}")))?;
+        Model::parse(&out.0).map_err(|e| EmitError(std::format!("internal error, emitted file invalid: {e}")))?;
         Ok(out.0)
     }
 
@@ -1551,32 +1333,17 @@ mod emit {
             || m.uvs.as_ref().is_some_and(|u| u.len() != nv)
             || m.colors.as_ref().is_some_and(|c| c.len() != nv)
         {
-            return Err(fail(
-                "normals/uvs/colors and positions differ in length".into(),
-            ));
+            return Err(fail("normals/uvs/colors and positions differ in length".into()));
         }
         if m.indices.len() % 3 != 0 {
-            return Err(fail(std::format!(
-                "{} indices is not a multiple of 3",
-                m.indices.len()
-            )));
+            return Err(fail(std::format!("{} indices is not a multiple of 3", m.indices.len())));
         }
-        if let Some((k, i)) = m
-            .indices
-            .iter()
-            .enumerate()
-            .find(|(_, &i)| i as usize >= nv)
-        {
-            return Err(fail(std::format!(
-                "indices[{k}] = {i} but only {nv} vertices"
-            )));
+        if let Some((k, i)) = m.indices.iter().enumerate().find(|(_, &i)| i as usize >= nv) {
+            return Err(fail(std::format!("indices[{k}] = {i} but only {nv} vertices")));
         }
         out.put_affine(at + mesh::WORLD.start, &m.world);
-        let (pos_offset, pos_scale) = if float_positions {
-            ([0.0; 3], [1.0; 3])
-        } else {
-            quantizer(m.positions.iter().copied())
-        };
+        let (pos_offset, pos_scale) =
+            if float_positions { ([0.0; 3], [1.0; 3]) } else { quantizer(m.positions.iter().copied()) };
         out.put_f32s(at + mesh::POS_OFFSET.start, &pos_offset);
         out.put_f32s(at + mesh::POS_SCALE.start, &pos_scale);
         out.put_f32s(at + mesh::BOUNDS.start, &bounding_sphere(&m.positions));
@@ -1600,19 +1367,11 @@ mod emit {
         out.put_u16(at + mesh::NAME_LEN.start, name.len() as u16);
 
         let positions: Vec<u8> = if float_positions {
-            m.positions
-                .iter()
-                .flatten()
-                .flat_map(|v| v.to_le_bytes())
-                .collect()
+            m.positions.iter().flatten().flat_map(|v| v.to_le_bytes()).collect()
         } else {
             m.positions
                 .iter()
-                .flat_map(|p| {
-                    (0..3).flat_map(move |k| {
-                        quantize(p[k], pos_offset[k], pos_scale[k]).to_le_bytes()
-                    })
-                })
+                .flat_map(|p| (0..3).flat_map(move |k| quantize(p[k], pos_offset[k], pos_scale[k]).to_le_bytes()))
                 .collect()
         };
         let o = out.append(&positions);
@@ -1620,9 +1379,7 @@ mod emit {
         let normals: Vec<u8> = m
             .normals
             .iter()
-            .flat_map(|n| {
-                n.map(|c| (libm::roundf(c.clamp(-1.0, 1.0) * NORMAL_ONE) as i16).to_le_bytes())
-            })
+            .flat_map(|n| n.map(|c| (libm::roundf(c.clamp(-1.0, 1.0) * NORMAL_ONE) as i16).to_le_bytes()))
             .flatten()
             .collect();
         let o = out.append(&normals);
@@ -1633,10 +1390,7 @@ mod emit {
             out.put_f32s(at + mesh::UV_SCALE.start, &uv_scale);
             let bytes: Vec<u8> = uvs
                 .iter()
-                .flat_map(|uv| {
-                    (0..2)
-                        .flat_map(move |k| quantize(uv[k], uv_offset[k], uv_scale[k]).to_le_bytes())
-                })
+                .flat_map(|uv| (0..2).flat_map(move |k| quantize(uv[k], uv_offset[k], uv_scale[k]).to_le_bytes()))
                 .collect();
             let o = out.append(&bytes);
             out.put_u32(at + mesh::UVS.start, o);
@@ -1649,24 +1403,13 @@ mod emit {
         let indices: Vec<u8> = if wide {
             m.indices.iter().flat_map(|i| i.to_le_bytes()).collect()
         } else {
-            m.indices
-                .iter()
-                .flat_map(|&i| (i as u16).to_le_bytes())
-                .collect()
+            m.indices.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect()
         };
         let o = out.append(&indices);
         out.put_u32(at + mesh::INDICES.start, o);
 
-        let whole = [scene::SubMeshData {
-            material: None,
-            index_start: 0,
-            index_count: m.indices.len() as u32,
-        }];
-        let subs = if m.submeshes.is_empty() {
-            &whole[..]
-        } else {
-            &m.submeshes[..]
-        };
+        let whole = [scene::SubMeshData { material: None, index_start: 0, index_count: m.indices.len() as u32 }];
+        let subs = if m.submeshes.is_empty() { &whole[..] } else { &m.submeshes[..] };
         let n_sub = count_u16(subs.len(), "sub-meshes")?;
         out.put_u16(at + mesh::SUBMESH_COUNT.start, n_sub);
         let s_at = out.reserve(subs.len() * submesh::LEN);
@@ -1674,10 +1417,7 @@ mod emit {
         for (k, s) in subs.iter().enumerate() {
             let r = s_at + k * submesh::LEN;
             if s.material.is_some_and(|mi| mi as usize >= n_materials) {
-                return Err(fail(std::format!(
-                    "sub-mesh {k}: material {:?} does not exist",
-                    s.material
-                )));
+                return Err(fail(std::format!("sub-mesh {k}: material {:?} does not exist", s.material)));
             }
             out.put_u16(r + submesh::MATERIAL.start, s.material.unwrap_or(NONE));
             out.put_u32(r + submesh::INDEX_START.start, s.index_start);
@@ -1691,18 +1431,10 @@ mod emit {
         libm::floorf(v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
     }
 
-    fn emit_material(
-        out: &mut Out,
-        at: usize,
-        m: &scene::MaterialData,
-        n_textures: usize,
-    ) -> Result<(), EmitError> {
+    fn emit_material(out: &mut Out, at: usize, m: &scene::MaterialData, n_textures: usize) -> Result<(), EmitError> {
         let [r, g, b] = m.diffuse.map(unit_to_u8);
         out.put(at + material::RGBA.start, &[r, g, b, unit_to_u8(m.alpha)]);
-        out.put(
-            at + material::FLAGS,
-            &[u8::from(m.back_face_culling) * material::FLAG_CULL_BACK],
-        );
+        out.put(at + material::FLAGS, &[u8::from(m.back_face_culling) * material::FLAG_CULL_BACK]);
         let wrap = |w: scene::Wrap| match w {
             scene::Wrap::Clamp => Wrap::Clamp as u8,
             scene::Wrap::Repeat => Wrap::Repeat as u8,
@@ -1710,31 +1442,16 @@ mod emit {
         };
         out.put(at + material::WRAP_U, &[wrap(m.wrap_u), wrap(m.wrap_v)]);
         if m.texture.is_some_and(|t| t as usize >= n_textures) {
-            return Err(EmitError(std::format!(
-                "material \"{}\": texture {:?} does not exist",
-                m.name,
-                m.texture
-            )));
+            return Err(EmitError(std::format!("material \"{}\": texture {:?} does not exist", m.name, m.texture)));
         }
         out.put_u16(at + material::TEXTURE.start, m.texture.unwrap_or(NONE));
         Ok(())
     }
 
-    fn emit_texture(
-        out: &mut Out,
-        at: usize,
-        t: &scene::TextureData,
-        opts: &EmitOptions,
-    ) -> Result<(), EmitError> {
+    fn emit_texture(out: &mut Out, at: usize, t: &scene::TextureData, opts: &EmitOptions) -> Result<(), EmitError> {
         let (w, h) = (t.width as usize, t.height as usize);
         if w == 0 || h == 0 || t.rgba.len() != w * h * 4 {
-            return Err(EmitError(std::format!(
-                "texture \"{}\": {}x{} with {} bytes",
-                t.name,
-                w,
-                h,
-                t.rgba.len()
-            )));
+            return Err(EmitError(std::format!("texture \"{}\": {}x{} with {} bytes", t.name, w, h, t.rgba.len())));
         }
         let format = match opts.textures {
             TextureChoice::Fixed(f) => f,
@@ -1751,11 +1468,7 @@ mod emit {
             .chunks_exact(w * 4)
             .rev()
             .flat_map(|row| row.chunks_exact(4))
-            .flat_map(|c| {
-                encode_texel(format, [c[0], c[1], c[2], c[3]])
-                    .into_iter()
-                    .take(n)
-            })
+            .flat_map(|c| encode_texel(format, [c[0], c[1], c[2], c[3]]).into_iter().take(n))
             .collect();
         let o = out.append(&texels);
         out.put_u32(at + texture::DATA.start, o);

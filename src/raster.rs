@@ -147,17 +147,11 @@ impl<const V: usize> Setup<V> {
     /// Prepares `tri` for rasterization into `win`. `cull_front_ccw`: cull triangles whose
     /// image-space winding is counter-clockwise in window coordinates' opposite sense, i.e. back
     /// faces; `flip` inverts which winding counts as front (negative-determinant transforms).
-    pub fn new(
-        tri: &[ScreenVertex; 3],
-        win: &Window,
-        cull_back: bool,
-        flip: bool,
-    ) -> Result<Self, Reject> {
+    pub fn new(tri: &[ScreenVertex; 3], win: &Window, cull_back: bool, flip: bool) -> Result<Self, Reject> {
         let [p0, p1, p2] = tri;
         // Twice the signed area in image coordinates (y down). Front faces are counter-clockwise
         // with y up, which is a negative area here. Coordinates are < 2^15 apart: fits i64 easily.
-        let area = (p1.x - p0.x) as i64 * (p2.y - p0.y) as i64
-            - (p2.x - p0.x) as i64 * (p1.y - p0.y) as i64;
+        let area = (p1.x - p0.x) as i64 * (p2.y - p0.y) as i64 - (p2.x - p0.x) as i64 * (p1.y - p0.y) as i64;
         if area == 0 {
             return Err(Reject::Degenerate);
         }
@@ -185,21 +179,12 @@ impl<const V: usize> Setup<V> {
         // so that every interpolated value is the same whichever band draws the pixel.
         let fy0 = ceil_div(min_y - 8, 16).max(0);
         let (ox, oy) = (x0 * 16 + 8, fy0 * 16 + 8);
-        let edges = [
-            Edge::new(b, c, ox, oy),
-            Edge::new(c, a, ox, oy),
-            Edge::new(a, b, ox, oy),
-        ];
+        let edges = [Edge::new(b, c, ox, oy), Edge::new(c, a, ox, oy), Edge::new(a, b, ox, oy)];
 
         // Depth plane from the three vertices (f32 setup, deterministic on every target).
         let af = area as f32;
         let (dz1, dz2) = (b.z - a.z, c.z - a.z);
-        let (ex1, ey1, ex2, ey2) = (
-            (b.x - a.x) as f32,
-            (b.y - a.y) as f32,
-            (c.x - a.x) as f32,
-            (c.y - a.y) as f32,
-        );
+        let (ex1, ey1, ex2, ey2) = ((b.x - a.x) as f32, (b.y - a.y) as f32, (c.x - a.x) as f32, (c.y - a.y) as f32);
         let gx = (dz1 * ey2 - dz2 * ey1) / af; // per 1/16 pixel
         let gy = (dz2 * ex1 - dz1 * ex2) / af;
         const Z_ONE: f32 = (1u64 << 40) as f32;
@@ -294,9 +279,7 @@ impl<const V: usize> Setup<V> {
                 continue;
             }
             let e_at = |x: i32| -> [i32; 3] {
-                core::array::from_fn(|k| {
-                    self.edges[k].c + self.edges[k].b * 16 * dy + self.edges[k].a * 16 * x
-                })
+                core::array::from_fn(|k| self.edges[k].c + self.edges[k].b * 16 * dy + self.edges[k].a * 16 * x)
             };
             let mut z = self.z_origin + self.z_dx * lo as i64 + self.z_dy * dy as i64;
             let mut xs = lo;

@@ -50,13 +50,7 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        Self {
-            shading: Shading::Gouraud,
-            mode: Mode::Solid,
-            filter: Filter::Nearest,
-            subspan: 1,
-            textures: true,
-        }
+        Self { shading: Shading::Gouraud, mode: Mode::Solid, filter: Filter::Nearest, subspan: 1, textures: true }
     }
 }
 
@@ -145,10 +139,7 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
     lights: &Lights<L>,
     opts: &RenderOptions,
 ) -> Stats {
-    let mut stats = Stats {
-        triangles_submitted: mesh.triangle_count(),
-        ..Stats::default()
-    };
+    let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
     let vp = camera.view_projection();
     if !sphere_visible(&vp, &world, mesh.bounding_sphere()) {
         stats.culled_frustum_mesh = mesh.triangle_count();
@@ -161,10 +152,7 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
         model_q,
         normals: normal_matrix(&world),
         flip: Mat3::from_mat4(world).determinant() < 0.0,
-        planes: Planes {
-            gx: GUARD_HALF_EXTENT / (w * 0.5),
-            gy: GUARD_HALF_EXTENT / (h * 0.5),
-        },
+        planes: Planes { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
         window: Window {
             width: band.width as i32,
             row_start: band.first_row as i32,
@@ -175,10 +163,7 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
         mesh: *mesh,
     };
     for sub in mesh.submeshes() {
-        let material = sub
-            .material
-            .and_then(|m| model.material(m))
-            .unwrap_or_default();
+        let material = sub.material.and_then(|m| model.material(m)).unwrap_or_default();
         let sampler = material
             .texture
             .filter(|_| opts.textures && mesh.has_uvs())
@@ -186,16 +171,7 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
             .map(|t| Sampler::new(t, material.wrap_u, material.wrap_v, opts.filter));
         let first = sub.first_triangle;
         for t in first..first + sub.triangle_count {
-            draw_triangle(
-                band,
-                &setup,
-                t,
-                &material,
-                sampler.as_ref(),
-                lights,
-                opts,
-                &mut stats,
-            );
+            draw_triangle(band, &setup, t, &material, sampler.as_ref(), lights, opts, &mut stats);
         }
     }
     stats
@@ -204,10 +180,7 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
 /// Whether a local-space bounding sphere, placed by `world`, may be inside the view frustum.
 fn sphere_visible(vp: &Mat4, world: &Mat4, (centre, radius): (Vec3, f32)) -> bool {
     let c = world.transform_point3(centre);
-    let scale = [world.x_axis, world.y_axis, world.z_axis]
-        .iter()
-        .map(|a| a.truncate().length())
-        .fold(0.0f32, f32::max);
+    let scale = [world.x_axis, world.y_axis, world.z_axis].iter().map(|a| a.truncate().length()).fold(0.0f32, f32::max);
     let r = radius * scale;
     let rows = [vp.row(0), vp.row(1), vp.row(2), vp.row(3)];
     let planes = [
@@ -244,9 +217,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         return;
     }
     let lit = vertex_light(s, &idx, &qv, lights, opts.shading);
-    let tex_size = sampler.map_or((0.0, 0.0), |sm| {
-        (sm.width() as f32 * ONE, sm.height() as f32 * ONE)
-    });
+    let tex_size = sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * ONE, sm.height() as f32 * ONE));
     let tri: [ClipVertex; 3] = core::array::from_fn(|k| {
         let uv = s.mesh.uv_q(idx[k]);
         let (o, sc) = s.uv;
@@ -257,10 +228,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         for ch in 0..3 {
             varyings[LIGHT + ch] = lit[k][ch] * (c[ch] as f32 / 255.0) * ONE;
         }
-        ClipVertex {
-            pos: clip[k],
-            varyings,
-        }
+        ClipVertex { pos: clip[k], varyings }
     });
     let mut poly = Polygon::new();
     match clip_triangle(&tri, &s.planes, &mut poly) {
@@ -287,11 +255,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
             let tri = [screen[0], screen[1], screen[2]];
             if let Err(r) = Setup::<0>::new(
                 &tri,
-                &Window {
-                    width: band.width as i32,
-                    row_start: 0,
-                    row_end: band.height as i32,
-                },
+                &Window { width: band.width as i32, row_start: 0, row_end: band.height as i32 },
                 material.cull_back_faces,
                 s.flip,
             ) {
@@ -306,13 +270,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
                 if opts.mode == Mode::Points {
                     plot(band, &screen[k], color, stats);
                 } else {
-                    line(
-                        band,
-                        &screen[k],
-                        &screen[(k + 1) % screen.len()],
-                        color,
-                        stats,
-                    );
+                    line(band, &screen[k], &screen[(k + 1) % screen.len()], color, stats);
                 }
             }
         }
@@ -418,14 +376,7 @@ fn fill<C: FrameColor, D: DepthBuffer>(
 }
 
 /// Writes one pixel at integer pixel `(x, y)` if it is in the band and passes depth.
-fn put<C: FrameColor, D: DepthBuffer>(
-    band: &mut Band<'_, C, D>,
-    x: i32,
-    y: i32,
-    z: u32,
-    c: C,
-    stats: &mut Stats,
-) {
+fn put<C: FrameColor, D: DepthBuffer>(band: &mut Band<'_, C, D>, x: i32, y: i32, z: u32, c: C, stats: &mut Stats) {
     let row = y - band.first_row as i32;
     if x < 0 || x >= band.width as i32 || row < 0 || row >= band.rows as i32 {
         return;
@@ -446,12 +397,7 @@ fn depth_q30(z: f32) -> u32 {
     (z * (1u32 << 30) as f32) as u32
 }
 
-fn plot<C: FrameColor, D: DepthBuffer>(
-    band: &mut Band<'_, C, D>,
-    p: &ScreenVertex,
-    c: C,
-    stats: &mut Stats,
-) {
+fn plot<C: FrameColor, D: DepthBuffer>(band: &mut Band<'_, C, D>, p: &ScreenVertex, c: C, stats: &mut Stats) {
     put(band, p.x >> 4, p.y >> 4, depth_q30(p.z), c, stats);
 }
 
@@ -464,11 +410,7 @@ fn line<C: FrameColor, D: DepthBuffer>(
     c: C,
     stats: &mut Stats,
 ) {
-    let (a, b) = if (a.x, a.y) <= (b.x, b.y) {
-        (a, b)
-    } else {
-        (b, a)
-    };
+    let (a, b) = if (a.x, a.y) <= (b.x, b.y) { (a, b) } else { (b, a) };
     let (x0, y0, x1, y1) = (a.x >> 4, a.y >> 4, b.x >> 4, b.y >> 4);
     let (dx, dy) = ((x1 - x0).abs(), -(y1 - y0).abs());
     let (sx, sy) = (if x0 < x1 { 1 } else { -1 }, if y0 < y1 { 1 } else { -1 });

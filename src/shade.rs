@@ -24,10 +24,7 @@ impl<const N: usize> Lights<N> {
     /// No lights and no ambient: everything lit renders black, so prefer [`Lights::from_model`].
     #[must_use]
     pub fn new(ambient: Vec3) -> Self {
-        Self {
-            ambient,
-            lights: Vec::new(),
-        }
+        Self { ambient, lights: Vec::new() }
     }
 
     /// Adds a light; hands it back when all `N` places are taken.
@@ -41,23 +38,13 @@ impl<const N: usize> Lights<N> {
     /// A directional light shining along `direction`.
     #[must_use]
     pub fn directional(direction: Vec3, intensity: f32) -> Light {
-        Light {
-            kind: LightKind::Directional,
-            vector: direction,
-            diffuse: Vec3::ONE,
-            intensity,
-        }
+        Light { kind: LightKind::Directional, vector: direction, diffuse: Vec3::ONE, intensity }
     }
 
     /// A point light at `position` (no falloff).
     #[must_use]
     pub fn point(position: Vec3, intensity: f32) -> Light {
-        Light {
-            kind: LightKind::Point,
-            vector: position,
-            diffuse: Vec3::ONE,
-            intensity,
-        }
+        Light { kind: LightKind::Point, vector: position, diffuse: Vec3::ONE, intensity }
     }
 
     /// The model's lights (the first `N`), no ambient. A scene without lights gets Babylon's
@@ -71,12 +58,8 @@ impl<const N: usize> Lights<N> {
             }
         }
         if set.lights.is_empty() {
-            let _ = set.push(Light {
-                kind: LightKind::Hemispheric,
-                vector: Vec3::Y,
-                diffuse: Vec3::ONE,
-                intensity: 1.0,
-            });
+            let _ =
+                set.push(Light { kind: LightKind::Hemispheric, vector: Vec3::Y, diffuse: Vec3::ONE, intensity: 1.0 });
         }
         set
     }
@@ -153,14 +136,8 @@ impl<'a> Sampler<'a> {
     #[must_use]
     pub fn new(texture: Texture<'a>, wrap_u: Wrap, wrap_v: Wrap, filter: Filter) -> Self {
         Sampler {
-            u: Axis {
-                size: texture.width as i32,
-                wrap: wrap_u,
-            },
-            v: Axis {
-                size: texture.height as i32,
-                wrap: wrap_v,
-            },
+            u: Axis { size: texture.width as i32, wrap: wrap_u },
+            v: Axis { size: texture.height as i32, wrap: wrap_v },
             texture,
             filter,
         }
@@ -245,45 +222,25 @@ mod tests {
     use super::*;
 
     fn tex(texels: &[u8], w: u16, h: u16) -> Texture<'_> {
-        Texture {
-            width: w,
-            height: h,
-            format: TextureFormat::Rgba8888,
-            texels,
-        }
+        Texture { width: w, height: h, format: TextureFormat::Rgba8888, texels }
     }
 
     #[test]
     fn negative_uvs_repeat_not_mirror() {
         // A 4x1 texture with texel values 0, 1, 2, 3 in red.
         let data: [u8; 16] = [0, 0, 0, 255, 1, 0, 0, 255, 2, 0, 0, 255, 3, 0, 0, 255];
-        let s = Sampler::new(
-            tex(&data, 4, 1),
-            Wrap::Repeat,
-            Wrap::Repeat,
-            Filter::Nearest,
-        );
+        let s = Sampler::new(tex(&data, 4, 1), Wrap::Repeat, Wrap::Repeat, Filter::Nearest);
         // u = -0.1 -> u·W = -0.4 -> floor -1 -> repeats to texel 3 (abs(u % w) would give 0).
         assert_eq!(s.sample((-0.4 * 65536.0) as i32, 0)[0], 3);
         assert_eq!(s.sample(5 << 16, 0)[0], 1);
-        let m = Sampler::new(
-            tex(&data, 4, 1),
-            Wrap::Mirror,
-            Wrap::Repeat,
-            Filter::Nearest,
-        );
+        let m = Sampler::new(tex(&data, 4, 1), Wrap::Mirror, Wrap::Repeat, Filter::Nearest);
         assert_eq!(m.sample(4 << 16, 0)[0], 3);
         assert_eq!(m.sample(-(1 << 16), 0)[0], 0);
         let c = Sampler::new(tex(&data, 4, 1), Wrap::Clamp, Wrap::Repeat, Filter::Nearest);
         assert_eq!(c.sample(-(7 << 16), 0)[0], 0);
         assert_eq!(c.sample(9 << 16, 0)[0], 3);
         // Non-power-of-two widths wrap too.
-        let odd = Sampler::new(
-            tex(&data[..12], 3, 1),
-            Wrap::Repeat,
-            Wrap::Repeat,
-            Filter::Nearest,
-        );
+        let odd = Sampler::new(tex(&data[..12], 3, 1), Wrap::Repeat, Wrap::Repeat, Filter::Nearest);
         assert_eq!(odd.sample(-(1 << 16), 0)[0], 2);
     }
 

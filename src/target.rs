@@ -62,11 +62,7 @@ impl FrameColor for Rgb565 {
     }
     #[inline]
     fn to_rgb888(self) -> [u8; 3] {
-        [
-            widen(self.r(), 31),
-            widen(self.g(), 63),
-            widen(self.b(), 31),
-        ]
+        [widen(self.r(), 31), widen(self.g(), 63), widen(self.b(), 31)]
     }
 }
 
@@ -240,27 +236,13 @@ impl fmt::Display for TargetError {
                 write!(f, "frame size {width}x{height} outside 1..={MAX_DIMENSION}")
             }
             TargetError::ColorLength { len, width } => {
-                write!(
-                    f,
-                    "colour slice of {len} pixels is not a whole number of {width}-pixel rows"
-                )
+                write!(f, "colour slice of {len} pixels is not a whole number of {width}-pixel rows")
             }
-            TargetError::BandOutsideFrame {
-                first_row,
-                rows,
-                height,
-            } => {
-                write!(
-                    f,
-                    "band rows {first_row}..{} outside a frame of {height} rows",
-                    first_row as usize + rows
-                )
+            TargetError::BandOutsideFrame { first_row, rows, height } => {
+                write!(f, "band rows {first_row}..{} outside a frame of {height} rows", first_row as usize + rows)
             }
             TargetError::DepthLength { depth, color } => {
-                write!(
-                    f,
-                    "depth slice has {depth} entries but colour slice has {color}"
-                )
+                write!(f, "depth slice has {depth} entries but colour slice has {color}")
             }
         }
     }
@@ -285,13 +267,7 @@ impl<'a, C: FrameColor, D: DepthBuffer> Band<'a, C, D> {
     ///
     /// # Errors
     /// [`TargetError`] when the size is out of range or a slice's length does not fit.
-    pub fn new(
-        color: &'a mut [C],
-        depth: D,
-        width: u16,
-        height: u16,
-        first_row: u16,
-    ) -> Result<Self, TargetError> {
+    pub fn new(color: &'a mut [C], depth: D, width: u16, height: u16, first_row: u16) -> Result<Self, TargetError> {
         if width == 0 || height == 0 || width > MAX_DIMENSION || height > MAX_DIMENSION {
             return Err(TargetError::BadSize { width, height });
         }
@@ -301,28 +277,14 @@ impl<'a, C: FrameColor, D: DepthBuffer> Band<'a, C, D> {
         }
         let rows = len / width as usize;
         if first_row as usize + rows > height as usize {
-            return Err(TargetError::BandOutsideFrame {
-                first_row,
-                rows,
-                height,
-            });
+            return Err(TargetError::BandOutsideFrame { first_row, rows, height });
         }
         if let Some(depth_len) = depth.depth_len() {
             if depth_len != len {
-                return Err(TargetError::DepthLength {
-                    depth: depth_len,
-                    color: len,
-                });
+                return Err(TargetError::DepthLength { depth: depth_len, color: len });
             }
         }
-        Ok(Band {
-            color,
-            depth,
-            width,
-            height,
-            first_row,
-            rows: rows as u16,
-        })
+        Ok(Band { color, depth, width, height, first_row, rows: rows as u16 })
     }
 
     /// Fills the colour slice with `c` and resets depth to the far plane.
@@ -375,22 +337,10 @@ mod tests {
     fn wrong_lengths_are_errors() {
         let mut c = [Rgb565::BLACK; 100];
         let mut z = [0u16; 99];
-        assert!(matches!(
-            Band::new(&mut c[..], &mut z[..], 10, 10, 0),
-            Err(TargetError::DepthLength { .. })
-        ));
-        assert!(matches!(
-            Band::new(&mut c[..], NoDepth, 7, 100, 0),
-            Err(TargetError::ColorLength { .. })
-        ));
-        assert!(matches!(
-            Band::new(&mut c[..], NoDepth, 10, 15, 6),
-            Err(TargetError::BandOutsideFrame { .. })
-        ));
-        assert!(matches!(
-            Band::new(&mut c[..], NoDepth, 0, 15, 0),
-            Err(TargetError::BadSize { .. })
-        ));
+        assert!(matches!(Band::new(&mut c[..], &mut z[..], 10, 10, 0), Err(TargetError::DepthLength { .. })));
+        assert!(matches!(Band::new(&mut c[..], NoDepth, 7, 100, 0), Err(TargetError::ColorLength { .. })));
+        assert!(matches!(Band::new(&mut c[..], NoDepth, 10, 15, 6), Err(TargetError::BandOutsideFrame { .. })));
+        assert!(matches!(Band::new(&mut c[..], NoDepth, 0, 15, 0), Err(TargetError::BadSize { .. })));
         assert!(Band::new(&mut c[..], NoDepth, 10, 15, 5).is_ok());
     }
 

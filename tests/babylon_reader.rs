@@ -5,14 +5,10 @@ use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
 use soft3d::convert::scene::{Matrix, MeshData, Scene};
-use soft3d::convert::{
-    read_babylon, read_babylon_file, ConvertError, ConvertOptions, UvOrigin, Warning,
-};
+use soft3d::convert::{read_babylon, read_babylon_file, ConvertError, ConvertOptions, UvOrigin, Warning};
 
 fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets")
-        .join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(rel)
 }
 
 fn read_with(rel: &str, opts: &ConvertOptions) -> (Scene, Vec<Warning>) {
@@ -25,12 +21,7 @@ fn read(rel: &str) -> (Scene, Vec<Warning>) {
 
 /// Reads JSON text as a scene named `test.babylon` with no directory.
 fn read_text(json: &str) -> Result<(Scene, Vec<Warning>), ConvertError> {
-    read_babylon(
-        json.as_bytes(),
-        None,
-        "test.babylon",
-        &ConvertOptions::default(),
-    )
+    read_babylon(json.as_bytes(), None, "test.babylon", &ConvertOptions::default())
 }
 
 fn triangles(scene: &Scene) -> usize {
@@ -38,11 +29,7 @@ fn triangles(scene: &Scene) -> usize {
 }
 
 fn mesh<'s>(scene: &'s Scene, name: &str) -> &'s MeshData {
-    scene
-        .meshes
-        .iter()
-        .find(|m| m.name == name)
-        .unwrap_or_else(|| panic!("no mesh {name}"))
+    scene.meshes.iter().find(|m| m.name == name).unwrap_or_else(|| panic!("no mesh {name}"))
 }
 
 fn point(m: &Matrix, p: [f32; 3]) -> [f32; 3] {
@@ -59,10 +46,7 @@ fn corners(m: &MeshData, world: bool) -> Vec<([f32; 3], [f32; 2])> {
             m.positions[i]
         }
     };
-    m.indices
-        .iter()
-        .map(|&i| (pos(i as usize), uv(i as usize)))
-        .collect()
+    m.indices.iter().map(|&i| (pos(i as usize), uv(i as usize))).collect()
 }
 
 fn assert_close(a: &[f32], b: &[f32], tol: f32, what: &str) {
@@ -83,10 +67,7 @@ fn assert_same_corners(a: &MeshData, b: &MeshData, world: bool, tol: f32) {
 
 #[test]
 fn every_asset_reads_with_the_expected_triangle_counts() {
-    let top = ConvertOptions {
-        uv_origin: UvOrigin::Top,
-        ..Default::default()
-    };
+    let top = ConvertOptions { uv_origin: UvOrigin::Top, ..Default::default() };
     let cases: [(&str, usize, usize, usize); 10] = [
         // file, meshes, triangles, instances
         ("suzanne/monkey.babylon", 1, 966, 0),
@@ -101,11 +82,7 @@ fn every_asset_reads_with_the_expected_triangle_counts() {
         ("shapekey/shapekeyAnimation.babylon", 4, 3210, 0),
     ];
     for (file, meshes, tris, instances) in cases {
-        let opts = if file.starts_with("suzanne") {
-            top
-        } else {
-            ConvertOptions::default()
-        };
+        let opts = if file.starts_with("suzanne") { top } else { ConvertOptions::default() };
         let (scene, warnings) = read_with(file, &opts);
         let vertices: usize = scene.meshes.iter().map(|m| m.positions.len()).sum();
         println!(
@@ -119,44 +96,27 @@ fn every_asset_reads_with_the_expected_triangle_counts() {
             scene.camera.is_some()
         );
         for t in &scene.textures {
-            println!(
-                "    texture {:?} {}x{} alpha {}",
-                t.name,
-                t.width,
-                t.height,
-                t.has_alpha()
-            );
+            println!("    texture {:?} {}x{} alpha {}", t.name, t.width, t.height, t.has_alpha());
         }
         for w in &warnings {
             println!("    warning: {w}");
         }
-        assert_eq!(
-            (scene.meshes.len(), triangles(&scene), scene.instances.len()),
-            (meshes, tris, instances),
-            "{file}"
-        );
+        assert_eq!((scene.meshes.len(), triangles(&scene), scene.instances.len()), (meshes, tris, instances), "{file}");
         for m in &scene.meshes {
             let n = m.positions.len();
             assert!(m.indices.iter().all(|&i| (i as usize) < n) && m.indices.len() % 3 == 0);
             assert_eq!(m.normals.len(), n);
-            assert!(m
-                .normals
-                .iter()
-                .all(|v| ((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt() - 1.).abs() < 1e-4));
+            assert!(m.normals.iter().all(|v| ((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt() - 1.).abs() < 1e-4));
             assert!(m.uvs.as_ref().is_none_or(|uv| uv.len() == n));
             assert!(!m.submeshes.is_empty());
             for s in &m.submeshes {
                 assert!(s.index_start % 3 == 0 && s.index_count % 3 == 0);
                 assert!((s.index_start + s.index_count) as usize <= m.indices.len());
-                assert!(s
-                    .material
-                    .is_none_or(|i| (i as usize) < scene.materials.len()));
+                assert!(s.material.is_none_or(|i| (i as usize) < scene.materials.len()));
             }
         }
         for mat in &scene.materials {
-            assert!(mat
-                .texture
-                .is_none_or(|t| (t as usize) < scene.textures.len()));
+            assert!(mat.texture.is_none_or(|t| (t as usize) < scene.textures.len()));
         }
         for t in &scene.textures {
             assert_eq!(t.rgba.len(), t.width as usize * t.height as usize * 4);
@@ -169,20 +129,10 @@ fn missing_textures_are_warnings_and_keep_the_diffuse_colour() {
     let (scene, warnings) = read("blender-split/blender.babylon");
     assert!(scene.textures.is_empty());
     assert_eq!(scene.materials.len(), 2);
-    assert!(scene
-        .materials
-        .iter()
-        .all(|m| m.texture.is_none() && m.diffuse == [0.64; 3]));
+    assert!(scene.materials.iter().all(|m| m.texture.is_none() && m.diffuse == [0.64; 3]));
     let text: Vec<String> = warnings.iter().map(ToString::to_string).collect();
-    assert!(
-        text.iter()
-            .any(|w| w.contains("\"concrete5.png\" not found") && w.contains("mesh \"Plane\"")),
-        "{text:?}"
-    );
-    assert!(
-        text.iter().any(|w| w.contains("\"Metal1.png\" not found")),
-        "{text:?}"
-    );
+    assert!(text.iter().any(|w| w.contains("\"concrete5.png\" not found") && w.contains("mesh \"Plane\"")), "{text:?}");
+    assert!(text.iter().any(|w| w.contains("\"Metal1.png\" not found")), "{text:?}");
 }
 
 #[test]
@@ -199,18 +149,8 @@ fn legacy_and_split_blender_scenes_have_the_same_geometry() {
     // The cube is animated (autoAnimate): both files show its first frame, whatever their
     // static `position` says (legacy 9.975, split 0); the rotation keys differ in sign only.
     let (a, b) = (mesh(&legacy, "Cube"), mesh(&split, "Cube"));
-    assert_close(
-        &a.world[12..15],
-        &[0., 0., 0.0291],
-        1e-6,
-        "legacy cube translation",
-    );
-    assert_close(
-        &b.world[12..15],
-        &[0., 0., 0.0291],
-        1e-6,
-        "split cube translation",
-    );
+    assert_close(&a.world[12..15], &[0., 0., 0.0291], 1e-6, "legacy cube translation");
+    assert_close(&b.world[12..15], &[0., 0., 0.0291], 1e-6, "split cube translation");
     assert_close(&a.world, &b.world, 0.04, "cube world");
     assert_eq!(legacy.camera, split.camera);
     assert_eq!(legacy.lights, split.lights);
@@ -225,18 +165,8 @@ fn binary_opaque_equals_json_opaque() {
         assert_eq!(a.name, b.name);
         assert_eq!(a.indices, b.indices);
         assert_eq!(a.submeshes, b.submeshes);
-        assert_close(
-            a.positions.as_flattened(),
-            b.positions.as_flattened(),
-            1e-6,
-            "positions",
-        );
-        assert_close(
-            a.normals.as_flattened(),
-            b.normals.as_flattened(),
-            1e-6,
-            "normals",
-        );
+        assert_close(a.positions.as_flattened(), b.positions.as_flattened(), 1e-6, "positions");
+        assert_close(a.normals.as_flattened(), b.normals.as_flattened(), 1e-6, "normals");
         let (ua, ub) = (a.uvs.as_ref().unwrap(), b.uvs.as_ref().unwrap());
         assert_close(ua.as_flattened(), ub.as_flattened(), 1e-6, "uvs");
         assert_close(&a.world, &b.world, 1e-6, "world");
@@ -250,17 +180,9 @@ fn binary_opaque_equals_json_opaque() {
 #[test]
 fn suzanne_uv_origin_top_flips_v() {
     let (bottom, _) = read("suzanne/monkey.babylon");
-    let (top, _) = read_with(
-        "suzanne/monkey.babylon",
-        &ConvertOptions {
-            uv_origin: UvOrigin::Top,
-            ..Default::default()
-        },
-    );
-    let (b, t) = (
-        bottom.meshes[0].uvs.as_ref().unwrap(),
-        top.meshes[0].uvs.as_ref().unwrap(),
-    );
+    let (top, _) =
+        read_with("suzanne/monkey.babylon", &ConvertOptions { uv_origin: UvOrigin::Top, ..Default::default() });
+    let (b, t) = (bottom.meshes[0].uvs.as_ref().unwrap(), top.meshes[0].uvs.as_ref().unwrap());
     assert_eq!(b.len(), 886);
     for (b, t) in b.iter().zip(t) {
         assert_eq!(b[0], t[0]);
@@ -284,17 +206,10 @@ fn tree_texture_is_a_tga_with_alpha() {
 
 #[test]
 fn textures_are_resized_on_request() {
-    let opts = ConvertOptions {
-        max_texture: Some(100),
-        power_of_two: true,
-        ..Default::default()
-    };
+    let opts = ConvertOptions { max_texture: Some(100), power_of_two: true, ..Default::default() };
     let (scene, _) = read_with("tree/tree.babylon", &opts);
     let tex = &scene.textures[0];
-    assert_eq!(
-        (tex.width, tex.height, tex.rgba.len()),
-        (64, 64, 64 * 64 * 4)
-    );
+    assert_eq!((tex.width, tex.height, tex.rgba.len()), (64, 64, 64 * 64 * 4));
 }
 
 #[test]
@@ -303,15 +218,9 @@ fn double_sided_has_two_submeshes_with_their_own_textures() {
     assert!(warnings.is_empty(), "{warnings:?}");
     let m = &scene.meshes[0];
     assert_eq!(m.submeshes.len(), 2);
-    let (a, b) = (
-        m.submeshes[0].material.unwrap(),
-        m.submeshes[1].material.unwrap(),
-    );
+    let (a, b) = (m.submeshes[0].material.unwrap(), m.submeshes[1].material.unwrap());
     assert_ne!(a, b);
-    let (ta, tb) = (
-        scene.materials[a as usize].texture.unwrap(),
-        scene.materials[b as usize].texture.unwrap(),
-    );
+    let (ta, tb) = (scene.materials[a as usize].texture.unwrap(), scene.materials[b as usize].texture.unwrap());
     assert_ne!(ta, tb);
     assert_eq!(scene.textures[ta as usize].name, "TestImage.png");
     assert_eq!(scene.textures[tb as usize].name, "Warhol.jpg");
@@ -325,17 +234,9 @@ fn double_sided_has_two_submeshes_with_their_own_textures() {
 fn instances_make_three_boxes() {
     let (scene, _) = read("instances/Instances.babylon");
     assert_eq!(scene.meshes.len(), 1);
-    let offsets: Vec<[f32; 3]> = scene
-        .instances
-        .iter()
-        .map(|i| [i.world[12], i.world[13], i.world[14]])
-        .collect();
+    let offsets: Vec<[f32; 3]> = scene.instances.iter().map(|i| [i.world[12], i.world[13], i.world[14]]).collect();
     assert!(scene.instances.iter().all(|i| i.mesh == 0));
-    let base = [
-        scene.meshes[0].world[12],
-        scene.meshes[0].world[13],
-        scene.meshes[0].world[14],
-    ];
+    let base = [scene.meshes[0].world[12], scene.meshes[0].world[13], scene.meshes[0].world[14]];
     assert_eq!(offsets, [[2., 0., 0.], [4., 0., 0.]]);
     assert_ne!(base, offsets[0]);
 }
@@ -355,29 +256,17 @@ fn shapekey_has_embedded_textures_and_a_hierarchy() {
 
     // The file's parent is the identity: move it and check the children follow.
     let path = asset("shapekey/shapekeyAnimation.babylon");
-    let mut json: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    let mut json: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
     json["meshes"][0]["position"] = serde_json::json!([1, 2, 3]);
     json["meshes"][0]["rotation"] = serde_json::json!([0, 0.5, 0]);
     let bytes = serde_json::to_vec(&json).unwrap();
-    let (moved, _) = read_babylon(
-        &bytes,
-        path.parent(),
-        "shapekey",
-        &ConvertOptions::default(),
-    )
-    .unwrap();
+    let (moved, _) = read_babylon(&bytes, path.parent(), "shapekey", &ConvertOptions::default()).unwrap();
     let (parent, child) = (mesh(&moved, "Male_Head"), mesh(&moved, "teeth1"));
     let child_local = mesh(&scene, "teeth1").world; // parent is the identity in the file
     assert_close(&child_local[..3], &[0.917, 0., 0.], 1e-6, "teeth1 local");
     assert_ne!(child.world, child_local);
     let p = [0.1, 0.2, 0.3];
-    assert_close(
-        &point(&child.world, p),
-        &point(&parent.world, point(&child_local, p)),
-        1e-5,
-        "composed",
-    );
+    assert_close(&point(&child.world, p), &point(&parent.world, point(&child_local, p)), 1e-5, "composed");
 }
 
 #[test]
@@ -398,8 +287,7 @@ fn cameras_and_lights() {
 fn missing_normals_are_computed_facing_the_front() {
     // One triangle, counter-clockwise seen from -z (the camera side): its normal is -z.
     let (scene, _) =
-        read_text(r#"{"meshes":[{"name":"T","positions":[0,0,0, 1,0,0, 0,1,0],"indices":null}]}"#)
-            .unwrap();
+        read_text(r#"{"meshes":[{"name":"T","positions":[0,0,0, 1,0,0, 0,1,0],"indices":null}]}"#).unwrap();
     let m = &scene.meshes[0];
     assert_eq!(m.indices, [0, 1, 2]);
     assert!(m.normals.iter().all(|n| *n == [0., 0., -1.]));
@@ -432,36 +320,16 @@ fn error_of(json: &str) -> String {
 #[test]
 fn malformed_input_is_an_error() {
     let real = std::fs::read(asset("instances/Instances.babylon")).unwrap();
-    let truncated = read_babylon(
-        &real[..real.len() / 2],
-        None,
-        "Instances.babylon",
-        &ConvertOptions::default(),
-    );
-    assert!(
-        matches!(truncated, Err(ConvertError::Json { .. })),
-        "{truncated:?}"
-    );
+    let truncated = read_babylon(&real[..real.len() / 2], None, "Instances.babylon", &ConvertOptions::default());
+    assert!(matches!(truncated, Err(ConvertError::Json { .. })), "{truncated:?}");
 
     let e = error_of(r#"{"meshes":[{"name":"M","positions":"x"}]}"#);
-    assert_eq!(
-        e,
-        r#"test.babylon: mesh "M": positions: expected an array, found "x""#
-    );
-    let e = error_of(
-        r#"{"meshes":[{"name":"M","positions":[0,0,0,1,0,0,0,1,0],"indices":[0,1,9001]}]}"#,
-    );
-    assert_eq!(
-        e,
-        r#"test.babylon: mesh "M": indices[2] = 9001 but only 3 vertices"#
-    );
+    assert_eq!(e, r#"test.babylon: mesh "M": positions: expected an array, found "x""#);
+    let e = error_of(r#"{"meshes":[{"name":"M","positions":[0,0,0,1,0,0,0,1,0],"indices":[0,1,9001]}]}"#);
+    assert_eq!(e, r#"test.babylon: mesh "M": indices[2] = 9001 but only 3 vertices"#);
     let e = error_of(r#"{"meshes":[{"name":"M","positions":[0,0,0,1,0,0,0,1]}]}"#);
-    assert!(
-        e.contains("mesh \"M\": positions: 8 numbers is not a multiple of 3"),
-        "{e}"
-    );
-    let e =
-        error_of(r#"{"meshes":[{"name":"M","positions":[0,0,0,1,0,0,0,1,0],"indices":[0,1]}]}"#);
+    assert!(e.contains("mesh \"M\": positions: 8 numbers is not a multiple of 3"), "{e}");
+    let e = error_of(r#"{"meshes":[{"name":"M","positions":[0,0,0,1,0,0,0,1,0],"indices":[0,1]}]}"#);
     assert!(e.contains("not a multiple of 3"), "{e}");
     let e = error_of(
         r#"{"meshes":[{"name":"A","id":"a","parentId":"b"},{"name":"B","id":"b","parentId":"a","positions":[0,0,0,1,0,0,0,1,0]}]}"#,
@@ -473,10 +341,7 @@ fn malformed_input_is_an_error() {
     let e = error_of(
         r#"{"meshes":[{"name":"M","positions":[0,0,0,1,0,0,0,1,0],"subMeshes":[{"indexStart":0,"indexCount":6}]}]}"#,
     );
-    assert!(
-        e.contains("subMeshes[0]: indexStart 0 + indexCount 6 > 3 indices"),
-        "{e}"
-    );
+    assert!(e.contains("subMeshes[0]: indexStart 0 + indexCount 6 > 3 indices"), "{e}");
     let e = error_of(r#"{"meshes":[{"name":"M","vertices":[0,0,0,0,0,1,0],"uvCount":1}]}"#);
     assert!(e.contains("vertices: 7 numbers"), "{e}");
     let e = error_of(r#"{"meshes":[{"name":"M","delayLoadingFile":"x.babylonbinarymeshdata"}]}"#);
@@ -508,10 +373,7 @@ fn odd_but_valid_input_gives_warnings() {
         "mesh \"C\": has no vertices",
         "light \"spot\"",
     ] {
-        assert!(
-            text.iter().any(|w| w.contains(needle)),
-            "{needle} in {text:?}"
-        );
+        assert!(text.iter().any(|w| w.contains(needle)), "{needle} in {text:?}");
     }
 }
 
@@ -576,23 +438,14 @@ fn babylonish() -> impl Strategy<Value = serde_json::Value> {
         any::<bool>().prop_map(Value::Bool),
         (-4i64..12).prop_map(|n| json!(n)),
         any::<f64>().prop_map(|x| json!(x)),
-        prop::sample::select(vec![
-            "a",
-            "b",
-            "root",
-            "m",
-            "position",
-            "data:image/png;base64,iVBORw0KGgo=",
-            ""
-        ])
-        .prop_map(|s| json!(s)),
+        prop::sample::select(vec!["a", "b", "root", "m", "position", "data:image/png;base64,iVBORw0KGgo=", ""])
+            .prop_map(|s| json!(s)),
     ];
     leaf.prop_recursive(5, 96, 8, move |inner| {
         prop_oneof![
             prop::collection::vec(inner.clone(), 0..10).prop_map(Value::Array),
-            prop::collection::vec((key.clone(), inner), 0..8).prop_map(|kv| Value::Object(
-                kv.into_iter().map(|(k, v)| (k.to_owned(), v)).collect()
-            )),
+            prop::collection::vec((key.clone(), inner), 0..8)
+                .prop_map(|kv| Value::Object(kv.into_iter().map(|(k, v)| (k.to_owned(), v)).collect())),
         ]
     })
 }

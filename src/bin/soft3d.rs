@@ -9,16 +9,10 @@ use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
 use soft3d::format::{emit, EmitOptions, TextureChoice, TextureFormat};
 use soft3d::math::Vec3;
 use soft3d::target::DepthBuffer;
-use soft3d::{
-    Band, Camera, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Shading, Stats,
-};
+use soft3d::{Band, Camera, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Shading, Stats};
 
 #[derive(Parser)]
-#[command(
-    name = "soft3d",
-    version,
-    about = "Convert, inspect and render 3D scenes for soft3d"
-)]
+#[command(name = "soft3d", version, about = "Convert, inspect and render 3D scenes for soft3d")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -181,11 +175,7 @@ struct RenderArgs {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Convert {
-            input,
-            output,
-            conv,
-        } => cmd_convert(&input, &output, &conv),
+        Command::Convert { input, output, conv } => cmd_convert(&input, &output, &conv),
         Command::Info { input, conv } => cmd_info(&input, &conv),
         Command::Render(args) => cmd_render(&args),
     };
@@ -221,14 +211,8 @@ fn convert_bytes(input: &Path, conv: &ConvertArgs) -> Result<Vec<u8>> {
         TexFormat::Rgb888 => TextureChoice::Fixed(TextureFormat::Rgb888),
         TexFormat::Rgba8888 => TextureChoice::Fixed(TextureFormat::Rgba8888),
     };
-    emit(
-        &scene,
-        &EmitOptions {
-            textures,
-            float_positions: conv.float_positions,
-        },
-    )
-    .map_err(|e| format!("{}: {e}", input.display()))
+    emit(&scene, &EmitOptions { textures, float_positions: conv.float_positions })
+        .map_err(|e| format!("{}: {e}", input.display()))
 }
 
 /// Reads a scene: `.s3d` as is, anything else through the converter.
@@ -244,25 +228,17 @@ fn load_scene(input: &Path, conv: &ConvertArgs) -> Result<Vec<u8>> {
 /// leaves a partial file behind.
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let tmp = path.with_extension("tmp-soft3d");
-    std::fs::write(&tmp, bytes)
-        .and_then(|()| std::fs::rename(&tmp, path))
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            format!("{}: {e}", path.display())
-        })
+    std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path)).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        format!("{}: {e}", path.display())
+    })
 }
 
 fn cmd_convert(input: &Path, output: &Path, conv: &ConvertArgs) -> Result<()> {
     let bytes = convert_bytes(input, conv)?;
     write_atomically(output, &bytes)?;
     let source = std::fs::metadata(input).map(|m| m.len()).unwrap_or(0);
-    println!(
-        "{} ({} bytes) -> {} ({} bytes)",
-        input.display(),
-        source,
-        output.display(),
-        bytes.len()
-    );
+    println!("{} ({} bytes) -> {} ({} bytes)", input.display(), source, output.display(), bytes.len());
     Ok(())
 }
 
@@ -293,10 +269,7 @@ fn cmd_info(input: &Path, conv: &ConvertArgs) -> Result<()> {
     for i in 0..model.instance_count() {
         if let Some((m, world)) = model.instance(i) {
             let t = world.w_axis;
-            println!(
-                "  instance {i}: mesh {m} at ({:.3}, {:.3}, {:.3})",
-                t.x, t.y, t.z
-            );
+            println!("  instance {i}: mesh {m} at ({:.3}, {:.3}, {:.3})", t.x, t.y, t.z);
         }
     }
     for i in 0..model.material_count() as u16 {
@@ -304,11 +277,7 @@ fn cmd_info(input: &Path, conv: &ConvertArgs) -> Result<()> {
             println!(
                 "  material {i}: rgba {:?}, {}, texture {:?}, wrap {:?}/{:?}",
                 m.rgba,
-                if m.cull_back_faces {
-                    "back faces culled"
-                } else {
-                    "two-sided"
-                },
+                if m.cull_back_faces { "back faces culled" } else { "two-sided" },
                 m.texture,
                 m.wrap_u,
                 m.wrap_v
@@ -317,13 +286,7 @@ fn cmd_info(input: &Path, conv: &ConvertArgs) -> Result<()> {
     }
     for i in 0..model.texture_count() as u16 {
         if let Some(t) = model.texture(i) {
-            println!(
-                "  texture {i}: {}x{} {:?}, {} bytes",
-                t.width,
-                t.height,
-                t.format,
-                t.texels.len()
-            );
+            println!("  texture {i}: {}x{} {:?}, {} bytes", t.width, t.height, t.format, t.texels.len());
         }
     }
     for l in model.lights() {
@@ -363,20 +326,13 @@ fn parse_vec3(s: &str, what: &str) -> Result<Vec3> {
         .map_err(|_| format!("{what}: expected x,y,z, got {s:?}"))?;
     match v[..] {
         [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok(Vec3::new(x, y, z)),
-        _ => Err(format!(
-            "{what}: expected three finite numbers x,y,z, got {s:?}"
-        )),
+        _ => Err(format!("{what}: expected three finite numbers x,y,z, got {s:?}")),
     }
 }
 
 fn parse_size(s: &str) -> Result<(u16, u16)> {
-    let (w, h) = s
-        .split_once('x')
-        .ok_or_else(|| format!("--size: expected WxH, got {s:?}"))?;
-    let p = |v: &str| {
-        v.parse::<u16>()
-            .map_err(|_| format!("--size: bad number {v:?}"))
-    };
+    let (w, h) = s.split_once('x').ok_or_else(|| format!("--size: expected WxH, got {s:?}"))?;
+    let p = |v: &str| v.parse::<u16>().map_err(|_| format!("--size: bad number {v:?}"));
     Ok((p(w)?, p(h)?))
 }
 
@@ -394,10 +350,8 @@ fn framing_camera(model: &Model<'_>) -> (Vec3, Vec3) {
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     for (mesh, world) in model.draws() {
         let (c, r) = mesh.bounding_sphere();
-        let scale = [world.x_axis, world.y_axis, world.z_axis]
-            .iter()
-            .map(|a| a.truncate().length())
-            .fold(0.0f32, f32::max);
+        let scale =
+            [world.x_axis, world.y_axis, world.z_axis].iter().map(|a| a.truncate().length()).fold(0.0f32, f32::max);
         let c = world.transform_point3(c);
         lo = lo.min(c - Vec3::splat(r * scale));
         hi = hi.max(c + Vec3::splat(r * scale));
@@ -407,10 +361,7 @@ fn framing_camera(model: &Model<'_>) -> (Vec3, Vec3) {
     }
     let centre = (lo + hi) * 0.5;
     let radius = ((hi - lo) * 0.5).length().max(1e-3);
-    (
-        centre + Vec3::new(0.0, 0.3, -1.0).normalize() * radius * 2.6,
-        centre,
-    )
+    (centre + Vec3::new(0.0, 0.3, -1.0).normalize() * radius * 2.6, centre)
 }
 
 struct View {
@@ -431,23 +382,12 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         Some(c) => (c.position, c.target),
         None => framing_camera(model),
     };
-    let eye = args
-        .eye
-        .as_deref()
-        .map(|s| parse_vec3(s, "--eye"))
-        .transpose()?
-        .unwrap_or(default_eye);
-    let target = args
-        .target
-        .as_deref()
-        .map(|s| parse_vec3(s, "--target"))
-        .transpose()?
-        .unwrap_or(default_target);
+    let eye = args.eye.as_deref().map(|s| parse_vec3(s, "--eye")).transpose()?.unwrap_or(default_eye);
+    let target = args.target.as_deref().map(|s| parse_vec3(s, "--target")).transpose()?.unwrap_or(default_target);
     let fov = args.fov.or(scene_cam.map(|c| c.fov)).unwrap_or(0.8);
     let near = args.near.or(scene_cam.map(|c| c.near)).unwrap_or(0.1);
     let far = args.far.or(scene_cam.map(|c| c.far)).unwrap_or(1000.0);
-    let camera =
-        Camera::perspective(eye, target, fov, aspect, near, far).map_err(|e| e.to_string())?;
+    let camera = Camera::perspective(eye, target, fov, aspect, near, far).map_err(|e| e.to_string())?;
     let mut lights = Lights::<8>::from_model(model);
     if !args.light.is_empty() {
         lights = Lights::new(Vec3::ZERO);
@@ -457,13 +397,9 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
             } else if let Some(v) = l.strip_prefix("point:") {
                 Lights::<8>::point(parse_vec3(v, "--light point")?, 1.0)
             } else {
-                return Err(format!(
-                    "--light: expected dir:x,y,z or point:x,y,z, got {l:?}"
-                ));
+                return Err(format!("--light: expected dir:x,y,z or point:x,y,z, got {l:?}"));
             };
-            lights
-                .push(light)
-                .map_err(|_| "--light: at most 8 lights".to_string())?;
+            lights.push(light).map_err(|_| "--light: at most 8 lights".to_string())?;
         }
     }
     let opts = RenderOptions {
@@ -487,15 +423,7 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     if args.bands == 0 || args.bands > height {
         return Err(format!("--bands: must be 1..={height}"));
     }
-    Ok(View {
-        camera,
-        lights,
-        opts,
-        background: parse_rgb(&args.background)?,
-        width,
-        height,
-        bands: args.bands,
-    })
+    Ok(View { camera, lights, opts, background: parse_rgb(&args.background)?, width, height, bands: args.bands })
 }
 
 /// Renders one frame band by band into RGB8, in pixel format `C` with depth buffer kind `depth`.
@@ -518,27 +446,9 @@ fn render_frame<C: FrameColor + Default>(
         let n = band_color.len();
         let range = k * rows_per_band * w..k * rows_per_band * w + n;
         let s = match depth {
-            DepthKind::U16 => draw_band(
-                band_color,
-                &mut z16[range],
-                view,
-                first_row,
-                model,
-                transform,
-                bg,
-            )?,
-            DepthKind::F32 => draw_band(
-                band_color,
-                &mut zf[range],
-                view,
-                first_row,
-                model,
-                transform,
-                bg,
-            )?,
-            DepthKind::None => {
-                draw_band(band_color, NoDepth, view, first_row, model, transform, bg)?
-            }
+            DepthKind::U16 => draw_band(band_color, &mut z16[range], view, first_row, model, transform, bg)?,
+            DepthKind::F32 => draw_band(band_color, &mut zf[range], view, first_row, model, transform, bg)?,
+            DepthKind::None => draw_band(band_color, NoDepth, view, first_row, model, transform, bg)?,
         };
         stats += s;
     }
@@ -554,25 +464,12 @@ fn draw_band<C: FrameColor, D: DepthBuffer>(
     transform: soft3d::math::Mat4,
     bg: C,
 ) -> Result<Stats> {
-    let mut band =
-        Band::new(color, depth, view.width, view.height, first_row).map_err(|e| e.to_string())?;
+    let mut band = Band::new(color, depth, view.width, view.height, first_row).map_err(|e| e.to_string())?;
     band.clear(bg);
-    Ok(soft3d::draw_model(
-        &mut band,
-        model,
-        transform,
-        &view.camera,
-        &view.lights,
-        &view.opts,
-    ))
+    Ok(soft3d::draw_model(&mut band, model, transform, &view.camera, &view.lights, &view.opts))
 }
 
-fn render_any(
-    model: &Model<'_>,
-    view: &View,
-    spin: f32,
-    args: &RenderArgs,
-) -> Result<(Vec<[u8; 3]>, Stats)> {
+fn render_any(model: &Model<'_>, view: &View, spin: f32, args: &RenderArgs) -> Result<(Vec<[u8; 3]>, Stats)> {
     match args.format {
         PixelFormat::Rgb888 => render_frame::<Rgb888>(model, view, spin, args.depth),
         PixelFormat::Rgb565 => render_frame::<Rgb565>(model, view, spin, args.depth),
@@ -615,8 +512,7 @@ fn encode_png(rgb: &[[u8; 3]], w: u16, h: u16) -> Result<Vec<u8>> {
     let flat: Vec<u8> = rgb.iter().flatten().copied().collect();
     let img = image::RgbImage::from_raw(w as u32, h as u32, flat).ok_or("image size mismatch")?;
     let mut out = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut out, image::ImageFormat::Png)
-        .map_err(|e| e.to_string())?;
+    img.write_to(&mut out, image::ImageFormat::Png).map_err(|e| e.to_string())?;
     Ok(out.into_inner())
 }
 
@@ -624,17 +520,15 @@ fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &RenderArgs) -> 
     let mut out = Vec::new();
     {
         let mut enc = image::codecs::gif::GifEncoder::new_with_speed(&mut out, 10);
-        enc.set_repeat(image::codecs::gif::Repeat::Infinite)
-            .map_err(|e| e.to_string())?;
+        enc.set_repeat(image::codecs::gif::Repeat::Infinite).map_err(|e| e.to_string())?;
         let frames = args.frames.max(1);
         for f in 0..frames {
             let spin = f as f32 / frames as f32 * std::f32::consts::TAU;
             let (rgb, _) = render_any(model, view, spin, args)?;
             let rgba: Vec<u8> = rgb.iter().flat_map(|c| [c[0], c[1], c[2], 255]).collect();
-            let img = image::RgbaImage::from_raw(view.width as u32, view.height as u32, rgba)
-                .ok_or("image size mismatch")?;
-            let frame =
-                image::Frame::from_parts(img, 0, 0, image::Delay::from_numer_denom_ms(50, 1));
+            let img =
+                image::RgbaImage::from_raw(view.width as u32, view.height as u32, rgba).ok_or("image size mismatch")?;
+            let frame = image::Frame::from_parts(img, 0, 0, image::Delay::from_numer_denom_ms(50, 1));
             enc.encode_frame(frame).map_err(|e| e.to_string())?;
         }
     }

@@ -48,8 +48,8 @@ use base64::Engine as _;
 use serde_json::Value;
 
 use super::scene::{
-    CameraData, InstanceData, LightData, LightKind, MaterialData, Matrix, MeshData, Scene,
-    SubMeshData, TextureData, Wrap, IDENTITY,
+    CameraData, InstanceData, LightData, LightKind, MaterialData, Matrix, MeshData, Scene, SubMeshData, TextureData,
+    Wrap, IDENTITY,
 };
 
 /// Where `v = 0` lies in the file's texture coordinates.
@@ -116,11 +116,7 @@ impl fmt::Display for ConvertError {
         match self {
             Self::Io { path, message } => write!(f, "{path}: {message}"),
             Self::Json { file, message } => write!(f, "{file}: invalid JSON: {message}"),
-            Self::Invalid {
-                file,
-                context,
-                message,
-            } => write!(f, "{file}: {context}: {message}"),
+            Self::Invalid { file, context, message } => write!(f, "{file}: {context}: {message}"),
         }
     }
 }
@@ -132,22 +128,10 @@ impl std::error::Error for ConvertError {}
 ///
 /// # Errors
 /// When the file cannot be read or breaks the format; see [`read_babylon`].
-pub fn read_babylon_file(
-    path: &Path,
-    opts: &ConvertOptions,
-) -> Result<(Scene, Vec<Warning>), ConvertError> {
+pub fn read_babylon_file(path: &Path, opts: &ConvertOptions) -> Result<(Scene, Vec<Warning>), ConvertError> {
     let json = std::fs::read(path).map_err(|e| io_error(path, &e))?;
-    let name = path.file_name().map_or_else(
-        || path.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
-    let dir = path.parent().map(|d| {
-        if d.as_os_str().is_empty() {
-            Path::new(".")
-        } else {
-            d
-        }
-    });
+    let name = path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned());
+    let dir = path.parent().map(|d| if d.as_os_str().is_empty() { Path::new(".") } else { d });
     read_babylon(&json, dir, &name, opts)
 }
 
@@ -167,10 +151,8 @@ pub fn read_babylon(
     opts: &ConvertOptions,
 ) -> Result<(Scene, Vec<Warning>), ConvertError> {
     let json = json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(json);
-    let root: Value = serde_json::from_slice(json).map_err(|e| ConvertError::Json {
-        file: file_name.to_owned(),
-        message: e.to_string(),
-    })?;
+    let root: Value = serde_json::from_slice(json)
+        .map_err(|e| ConvertError::Json { file: file_name.to_owned(), message: e.to_string() })?;
     let mut reader = Reader::new(&root, base_dir, file_name, opts)?;
     reader.read_meshes()?;
     reader.read_lights()?;
@@ -179,10 +161,7 @@ pub fn read_babylon(
 }
 
 fn io_error(path: &Path, e: &std::io::Error) -> ConvertError {
-    ConvertError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    }
+    ConvertError::Io { path: path.display().to_string(), message: e.to_string() }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -198,11 +177,7 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn err(&self, message: impl Into<String>) -> ConvertError {
-        ConvertError::Invalid {
-            file: self.file.to_owned(),
-            context: self.what.clone(),
-            message: message.into(),
-        }
+        ConvertError::Invalid { file: self.file.to_owned(), context: self.what.clone(), message: message.into() }
     }
 }
 
@@ -244,24 +219,13 @@ fn list<'v>(obj: &'v Value, key: &str) -> Res<&'v [Value]> {
 }
 
 /// Maps the elements of an array field with `f`, naming the first bad element.
-fn array<T>(
-    obj: &Value,
-    key: &str,
-    what: &str,
-    f: impl Fn(&Value) -> Option<T>,
-) -> Res<Option<Vec<T>>> {
+fn array<T>(obj: &Value, key: &str, what: &str, f: impl Fn(&Value) -> Option<T>) -> Res<Option<Vec<T>>> {
     let Some(v) = get(obj, key) else {
         return Ok(None);
     };
-    let a = v
-        .as_array()
-        .ok_or_else(|| format!("{key}: expected an array, found {}", show(v)))?;
+    let a = v.as_array().ok_or_else(|| format!("{key}: expected an array, found {}", show(v)))?;
     let bad = |(i, x): (usize, &Value)| format!("{key}[{i}]: expected {what}, found {}", show(x));
-    a.iter()
-        .enumerate()
-        .map(|(i, x)| f(x).ok_or_else(|| bad((i, x))))
-        .collect::<Res<_>>()
-        .map(Some)
+    a.iter().enumerate().map(|(i, x)| f(x).ok_or_else(|| bad((i, x)))).collect::<Res<_>>().map(Some)
 }
 
 fn floats(obj: &Value, key: &str) -> Res<Option<Vec<f32>>> {
@@ -269,9 +233,7 @@ fn floats(obj: &Value, key: &str) -> Res<Option<Vec<f32>>> {
 }
 
 fn uints(obj: &Value, key: &str) -> Res<Option<Vec<u32>>> {
-    array(obj, key, "an index below 2^32", |x| {
-        whole(x).and_then(|n| u32::try_from(n).ok())
-    })
+    array(obj, key, "an index below 2^32", |x| whole(x).and_then(|n| u32::try_from(n).ok()))
 }
 
 /// A fixed-size numeric field (`position`, `diffuse`...); extra elements are ignored.
@@ -280,23 +242,18 @@ fn vector<const N: usize>(obj: &Value, key: &str) -> Res<Option<[f32; N]>> {
         return Ok(None);
     };
     let short = || format!("{key}: expected {N} numbers, found {}", v.len());
-    v.get(..N)
-        .and_then(|s| <[f32; N]>::try_from(s).ok())
-        .map(Some)
-        .ok_or_else(short)
+    v.get(..N).and_then(|s| <[f32; N]>::try_from(s).ok()).map(Some).ok_or_else(short)
 }
 
 fn scalar(obj: &Value, key: &str, default: f32) -> Res<f32> {
-    get(obj, key).map_or(Ok(default), |v| {
-        finite(v).ok_or_else(|| format!("{key}: expected a finite number, found {}", show(v)))
-    })
+    get(obj, key)
+        .map_or(Ok(default), |v| finite(v).ok_or_else(|| format!("{key}: expected a finite number, found {}", show(v))))
 }
 
 fn count(obj: &Value, key: &str, default: Option<u64>) -> Res<u64> {
     match get(obj, key) {
         None => default.ok_or_else(|| format!("{key}: missing")),
-        Some(v) => whole(v)
-            .ok_or_else(|| format!("{key}: expected a whole number >= 0, found {}", show(v))),
+        Some(v) => whole(v).ok_or_else(|| format!("{key}: expected a whole number >= 0, found {}", show(v))),
     }
 }
 
@@ -305,9 +262,7 @@ fn flag(obj: &Value, key: &str, default: bool) -> Res<bool> {
     match get(obj, key) {
         None => Ok(default),
         Some(Value::Bool(b)) => Ok(*b),
-        Some(v) => finite(v)
-            .map(|x| x != 0.0)
-            .ok_or_else(|| format!("{key}: expected a boolean, found {}", show(v))),
+        Some(v) => finite(v).map(|x| x != 0.0).ok_or_else(|| format!("{key}: expected a boolean, found {}", show(v))),
     }
 }
 
@@ -323,11 +278,7 @@ fn text(obj: &Value, key: &str) -> Res<Option<String>> {
 
 /// `kind "name"` for messages, from `name`, else `id`, else the array position.
 fn label(obj: &Value, kind: &str, array: &str, i: usize) -> String {
-    match text(obj, "name")
-        .ok()
-        .flatten()
-        .or_else(|| text(obj, "id").ok().flatten())
-    {
+    match text(obj, "name").ok().flatten().or_else(|| text(obj, "id").ok().flatten()) {
         Some(name) => format!("{kind} {name:?}"),
         None => format!("{array}[{i}]"),
     }
@@ -378,12 +329,7 @@ struct Trs {
 }
 
 impl Trs {
-    const IDENTITY: Trs = Trs {
-        position: [0.; 3],
-        rotation: [0.; 3],
-        quaternion: None,
-        scaling: [1.; 3],
-    };
+    const IDENTITY: Trs = Trs { position: [0.; 3], rotation: [0.; 3], quaternion: None, scaling: [1.; 3] };
 
     /// Reads the fields of `obj`, taking the missing ones from `base`.
     fn read(obj: &Value, base: Trs) -> Res<Trs> {
@@ -396,8 +342,7 @@ impl Trs {
     }
 
     fn rotation_matrix(&self) -> Matrix {
-        self.quaternion
-            .map_or_else(|| euler_matrix(self.rotation), quat_matrix)
+        self.quaternion.map_or_else(|| euler_matrix(self.rotation), quat_matrix)
     }
 
     /// `Local = S · R · T`.
@@ -421,9 +366,7 @@ impl Trs {
             let Some(property) = text(anim, "property").map_err(in_anim)? else {
                 continue;
             };
-            let (base, component) = property
-                .split_once('.')
-                .map_or((&*property, None), |(b, c)| (b, Some(c)));
+            let (base, component) = property.split_once('.').map_or((&*property, None), |(b, c)| (b, Some(c)));
             let Some(value) = key_value(anim, frame).map_err(in_anim)? else {
                 continue;
             };
@@ -440,9 +383,7 @@ impl Trs {
                         *t = *v;
                     }
                 }
-                None if component.is_none() => {
-                    target.iter_mut().zip(&value).for_each(|(t, v)| *t = *v)
-                }
+                None if component.is_none() => target.iter_mut().zip(&value).for_each(|(t, v)| *t = *v),
                 None => {}
             }
         }
@@ -477,11 +418,7 @@ fn texture_matrix(tex: &Value) -> Res<[f32; 6]> {
     let (us, vs) = (f("uScale", 1.)?, f("vScale", 1.)?);
     let (uo, vo) = (f("uOffset", 0.)?, f("vOffset", 0.)?);
     let angles = [f("uAng", 0.)?, f("vAng", 0.)?, f("wAng", 0.)?];
-    let centre = [
-        f("uRotationCenter", 0.5)?,
-        f("vRotationCenter", 0.5)?,
-        f("wRotationCenter", 0.5)?,
-    ];
+    let centre = [f("uRotationCenter", 0.5)?, f("vRotationCenter", 0.5)?, f("wRotationCenter", 0.5)?];
     let r = euler_matrix(angles); // RotationYawPitchRoll(vAng, uAng, wAng)
     let row = |x: f32, y: f32| {
         let p = [x * us - centre[0] * us, y * vs - centre[1] * vs, -centre[2]];
@@ -489,14 +426,7 @@ fn texture_matrix(tex: &Value) -> Res<[f32; 6]> {
         [t[0] + centre[0] * us + uo, t[1] + centre[1] * vs + vo]
     };
     let (t0, t1, t2) = (row(0., 0.), row(1., 0.), row(0., 1.));
-    Ok([
-        t1[0] - t0[0],
-        t2[0] - t0[0],
-        t0[0],
-        t1[1] - t0[1],
-        t2[1] - t0[1],
-        t0[1],
-    ])
+    Ok([t1[0] - t0[0], t2[0] - t0[0], t0[0], t1[1] - t0[1], t2[1] - t0[1], t0[1]])
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -529,10 +459,7 @@ fn split_geometry(obj: &Value) -> Res<Geometry> {
 fn legacy_geometry(obj: &Value) -> Res<Geometry> {
     let data = floats(obj, "vertices")?.unwrap_or_default();
     let uv_count = count(obj, "uvCount", Some(0))?;
-    let stride = usize::try_from(uv_count)
-        .ok()
-        .filter(|&n| n <= 64)
-        .map(|n| 6 + 2 * n);
+    let stride = usize::try_from(uv_count).ok().filter(|&n| n <= 64).map(|n| 6 + 2 * n);
     let stride = stride.ok_or_else(|| format!("uvCount: {uv_count} is too large"))?;
     if data.len() % stride != 0 {
         return Err(format!(
@@ -541,9 +468,7 @@ fn legacy_geometry(obj: &Value) -> Res<Geometry> {
         ));
     }
     let pick = |start: usize, n: usize| {
-        data.chunks_exact(stride)
-            .flat_map(|v| v[start..start + n].iter().copied())
-            .collect::<Vec<_>>()
+        data.chunks_exact(stride).flat_map(|v| v[start..start + n].iter().copied()).collect::<Vec<_>>()
     };
     let uvs = |set: usize| (set < stride / 2 - 3).then(|| pick(6 + 2 * set, 2));
     Ok(Geometry {
@@ -563,28 +488,13 @@ fn binary_geometry(data: &[u8], info: &Value) -> Res<Geometry> {
             return Ok(None);
         };
         let in_desc = |m: String| format!("_binaryInfo.{key}.{m}");
-        let (n, offset) = (
-            count(desc, "count", None).map_err(in_desc)?,
-            count(desc, "offset", None).map_err(in_desc)?,
-        );
-        let range = n
-            .checked_mul(4 * per)
-            .and_then(|len| Some(offset..offset.checked_add(len)?));
-        let bytes = range
-            .and_then(|r| data.get(usize::try_from(r.start).ok()?..usize::try_from(r.end).ok()?));
-        let outside = || {
-            format!(
-                "_binaryInfo.{key}: {n} values at byte {offset} lie outside the {}-byte file",
-                data.len()
-            )
-        };
+        let (n, offset) = (count(desc, "count", None).map_err(in_desc)?, count(desc, "offset", None).map_err(in_desc)?);
+        let range = n.checked_mul(4 * per).and_then(|len| Some(offset..offset.checked_add(len)?));
+        let bytes = range.and_then(|r| data.get(usize::try_from(r.start).ok()?..usize::try_from(r.end).ok()?));
+        let outside =
+            || format!("_binaryInfo.{key}: {n} values at byte {offset} lie outside the {}-byte file", data.len());
         let bytes = bytes.ok_or_else(outside)?;
-        Ok(Some(
-            bytes
-                .chunks_exact(4)
-                .map(|c| [c[0], c[1], c[2], c[3]])
-                .collect(),
-        ))
+        Ok(Some(bytes.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect()))
     };
     let floats = |key: &str, name: &str| -> Res<Option<Vec<f32>>> {
         let Some(w) = words(key, 1)? else {
@@ -602,26 +512,16 @@ fn binary_geometry(data: &[u8], info: &Value) -> Res<Geometry> {
         };
         let ints = w.into_iter().map(i32::from_le_bytes);
         let bad = |(i, x): (usize, i32)| format!("{name}[{i}] = {x} is negative");
-        ints.enumerate()
-            .map(|(i, x)| u32::try_from(x).map_err(|_| bad((i, x))))
-            .collect::<Res<_>>()
-            .map(Some)
+        ints.enumerate().map(|(i, x)| u32::try_from(x).map_err(|_| bad((i, x)))).collect::<Res<_>>().map(Some)
     };
     let subs = ints("subMeshesAttrDesc", "subMeshes", 5)?;
     Ok(Geometry {
         positions: floats("positionsAttrDesc", "positions")?.unwrap_or_default(),
         normals: floats("normalsAttrDesc", "normals")?,
-        uvs: [
-            floats("uvsAttrDesc", "uvs")?,
-            floats("uvs2AttrDesc", "uvs2")?,
-        ],
+        uvs: [floats("uvsAttrDesc", "uvs")?, floats("uvs2AttrDesc", "uvs2")?],
         colors: floats("colorsAttrDesc", "colors")?,
         indices: ints("indicesAttrDesc", "indices", 1)?,
-        submeshes: subs.map(|s| {
-            s.chunks_exact(5)
-                .map(|r| [r[0], r[3], r[4]].map(u64::from))
-                .collect()
-        }),
+        submeshes: subs.map(|s| s.chunks_exact(5).map(|r| [r[0], r[3], r[4]].map(u64::from)).collect()),
     })
 }
 
@@ -633,25 +533,13 @@ fn submeshes(obj: &Value) -> Res<Option<Vec<[u64; 3]>>> {
     let read = |(i, s): (usize, &Value)| -> Res<[u64; 3]> {
         let at = |m: String| format!("subMeshes[{i}].{m}");
         if !s.is_object() {
-            return Err(format!(
-                "subMeshes[{i}]: expected an object, found {}",
-                show(s)
-            ));
+            return Err(format!("subMeshes[{i}]: expected an object, found {}", show(s)));
         }
-        let [m, start, n] = [
-            ("materialIndex", Some(0)),
-            ("indexStart", None),
-            ("indexCount", None),
-        ]
-        .map(|(k, d)| count(s, k, d));
+        let [m, start, n] =
+            [("materialIndex", Some(0)), ("indexStart", None), ("indexCount", None)].map(|(k, d)| count(s, k, d));
         Ok([m.map_err(at)?, start.map_err(at)?, n.map_err(at)?])
     };
-    list(obj, "subMeshes")?
-        .iter()
-        .enumerate()
-        .map(read)
-        .collect::<Res<_>>()
-        .map(Some)
+    list(obj, "subMeshes")?.iter().enumerate().map(read).collect::<Res<_>>().map(Some)
 }
 
 fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
@@ -667,14 +555,9 @@ fn unit(v: [f32; 3]) -> Option<[f32; 3]> {
 fn smooth_normals(positions: &[[f32; 3]], indices: &[u32]) -> Vec<[f32; 3]> {
     let mut acc = vec![[0f32; 3]; positions.len()];
     for t in indices.chunks_exact(3) {
-        let [p0, p1, p2] =
-            [t[0], t[1], t[2]].map(|i| positions.get(i as usize).copied().unwrap_or_default());
+        let [p0, p1, p2] = [t[0], t[1], t[2]].map(|i| positions.get(i as usize).copied().unwrap_or_default());
         let (a, b) = (sub(p0, p1), sub(p2, p1));
-        let n = [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ];
+        let n = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
         for &i in t {
             if let Some(s) = acc.get_mut(i as usize) {
                 *s = [s[0] + n[0], s[1] + n[1], s[2] + n[2]];
@@ -747,10 +630,7 @@ impl<'a> Reader<'a> {
         file: &'a str,
         opts: &'a ConvertOptions,
     ) -> Result<Self, ConvertError> {
-        let cx = Ctx {
-            file,
-            what: "scene".into(),
-        };
+        let cx = Ctx { file, what: "scene".into() };
         if !root.is_object() {
             return Err(cx.err(format!("expected a JSON object, found {}", show(root))));
         }
@@ -768,29 +648,18 @@ impl<'a> Reader<'a> {
             scene: Scene::default(),
             warnings: Vec::new(),
         };
-        for (i, m) in list(root, "materials")
-            .map_err(|m| cx.err(m))?
-            .iter()
-            .enumerate()
-        {
+        for (i, m) in list(root, "materials").map_err(|m| cx.err(m))?.iter().enumerate() {
             let id = text(m, "id")
                 .and_then(|id| Ok(id.or(text(m, "name")?)))
                 .map_err(|e| cx.err(format!("materials[{i}].{e}")))?;
             if !m.is_object() {
-                return Err(cx.err(format!(
-                    "materials[{i}]: expected an object, found {}",
-                    show(m)
-                )));
+                return Err(cx.err(format!("materials[{i}]: expected an object, found {}", show(m))));
             }
             if let Some(id) = id {
                 r.materials.entry(id).or_insert(m);
             }
         }
-        for (i, mm) in list(root, "multiMaterials")
-            .map_err(|m| cx.err(m))?
-            .iter()
-            .enumerate()
-        {
+        for (i, mm) in list(root, "multiMaterials").map_err(|m| cx.err(m))?.iter().enumerate() {
             let at = |m: String| cx.err(format!("multiMaterials[{i}].{m}"));
             let subs = array(mm, "materials", "a material id or null", |s| match s {
                 Value::Null => Some(None),
@@ -799,9 +668,7 @@ impl<'a> Reader<'a> {
                 _ => None,
             });
             if let Some(id) = text(mm, "id").map_err(at)? {
-                r.multi
-                    .entry(id)
-                    .or_insert(subs.map_err(at)?.unwrap_or_default());
+                r.multi.entry(id).or_insert(subs.map_err(at)?.unwrap_or_default());
             }
         }
         r.read_nodes()?;
@@ -809,10 +676,7 @@ impl<'a> Reader<'a> {
     }
 
     fn ctx(&self, what: impl Into<String>) -> Ctx<'a> {
-        Ctx {
-            file: self.file,
-            what: what.into(),
-        }
+        Ctx { file: self.file, what: what.into() }
     }
 
     fn warn(&mut self, message: String) {
@@ -822,15 +686,8 @@ impl<'a> Reader<'a> {
     /// Collects meshes and transform nodes with their local matrices and parents.
     fn read_nodes(&mut self) -> Result<(), ConvertError> {
         let root = self.root;
-        for (array, kind, is_mesh) in [
-            ("meshes", "mesh", true),
-            ("transformNodes", "transform node", false),
-        ] {
-            for (i, obj) in list(root, array)
-                .map_err(|m| self.ctx("scene").err(m))?
-                .iter()
-                .enumerate()
-            {
+        for (array, kind, is_mesh) in [("meshes", "mesh", true), ("transformNodes", "transform node", false)] {
+            for (i, obj) in list(root, array).map_err(|m| self.ctx("scene").err(m))?.iter().enumerate() {
                 let cx = self.ctx(label(obj, kind, array, i));
                 if !obj.is_object() {
                     return Err(self
@@ -842,25 +699,14 @@ impl<'a> Reader<'a> {
                 animated.animate(obj).map_err(|m| cx.err(m))?;
                 if let Some(pivot) = floats(obj, "pivotMatrix").map_err(|m| cx.err(m))? {
                     if pivot != IDENTITY {
-                        self.warn(format!(
-                            "{}: pivotMatrix is not supported and was ignored",
-                            cx.what
-                        ));
+                        self.warn(format!("{}: pivotMatrix is not supported and was ignored", cx.what));
                     }
                 }
                 if let Some(id) = text(obj, "id").map_err(|m| cx.err(m))? {
                     self.ids.entry(id).or_insert(self.nodes.len());
                 }
                 let local = animated.matrix();
-                self.nodes.push(Node {
-                    obj,
-                    what: cx.what,
-                    trs,
-                    local,
-                    parent: None,
-                    world: None,
-                    is_mesh,
-                });
+                self.nodes.push(Node { obj, what: cx.what, trs, local, parent: None, world: None, is_mesh });
             }
         }
         for i in 0..self.nodes.len() {
@@ -878,9 +724,7 @@ impl<'a> Reader<'a> {
         };
         let found = self.ids.get(&id).copied();
         if found.is_none() {
-            self.warn(format!(
-                "{what}: parent {id:?} not found, treated as a root"
-            ));
+            self.warn(format!("{what}: parent {id:?} not found, treated as a root"));
         }
         Ok(found)
     }
@@ -899,12 +743,7 @@ impl<'a> Reader<'a> {
                 break;
             };
             if chain.len() > self.nodes.len() {
-                let names: Vec<&str> = chain
-                    .iter()
-                    .rev()
-                    .take(8)
-                    .map(|&n| self.nodes[n].what.as_str())
-                    .collect();
+                let names: Vec<&str> = chain.iter().rev().take(8).map(|&n| self.nodes[n].what.as_str()).collect();
                 return Err(self
                     .ctx(self.nodes[i].what.clone())
                     .err(format!("parentId cycle through {}", names.join(" -> "))));
@@ -942,9 +781,7 @@ impl<'a> Reader<'a> {
         }
         if let Some(name) = text(obj, "delayLoadingFile").map_err(e)? {
             let Some(dir) = self.base_dir else {
-                return Err(cx.err(format!(
-                    "delayLoadingFile {name:?}: no directory to read it from"
-                )));
+                return Err(cx.err(format!("delayLoadingFile {name:?}: no directory to read it from")));
             };
             let path = dir.join(&name);
             let data = std::fs::read(&path).map_err(|err| io_error(&path, &err))?;
@@ -952,8 +789,7 @@ impl<'a> Reader<'a> {
             let mut geom = match get(obj, "_binaryInfo") {
                 Some(info) => binary_geometry(&data, info).map_err(in_file)?,
                 None => {
-                    let side: Value =
-                        serde_json::from_slice(&data).map_err(|err| in_file(err.to_string()))?;
+                    let side: Value = serde_json::from_slice(&data).map_err(|err| in_file(err.to_string()))?;
                     split_geometry(&side).map_err(in_file)?
                 }
             };
@@ -965,14 +801,9 @@ impl<'a> Reader<'a> {
         if let Some(id) = text(obj, "geometryId").map_err(e)? {
             let all = get(self.root, "geometries").map_or(Ok(&[][..]), |g| list(g, "vertexData"));
             let all = all.map_err(|m| self.ctx("scene").err(format!("geometries.{m}")))?;
-            let data = all
-                .iter()
-                .find(|g| text(g, "id").ok().flatten().as_deref() == Some(&*id));
-            let data = data.ok_or_else(|| {
-                cx.err(format!("geometryId {id:?} is not in geometries.vertexData"))
-            })?;
-            let mut geom =
-                split_geometry(data).map_err(|m| cx.err(format!("geometry {id:?}: {m}")))?;
+            let data = all.iter().find(|g| text(g, "id").ok().flatten().as_deref() == Some(&*id));
+            let data = data.ok_or_else(|| cx.err(format!("geometryId {id:?} is not in geometries.vertexData")))?;
+            let mut geom = split_geometry(data).map_err(|m| cx.err(format!("geometry {id:?}: {m}")))?;
             geom.submeshes = submeshes(obj).map_err(e)?;
             return Ok(geom);
         }
@@ -985,67 +816,36 @@ impl<'a> Reader<'a> {
         let e = |m: String| cx.err(m);
         let geom = self.geometry(obj, &cx)?;
         if geom.positions.is_empty() {
-            let claimed = [
-                "positions",
-                "vertices",
-                "indices",
-                "normals",
-                "uvs",
-                "delayLoadingFile",
-                "geometryId",
-            ];
+            let claimed = ["positions", "vertices", "indices", "normals", "uvs", "delayLoadingFile", "geometryId"];
             if claimed.iter().any(|k| get(obj, k).is_some()) {
-                self.warn(format!(
-                    "{}: has no vertices, treated as a transform node",
-                    cx.what
-                ));
+                self.warn(format!("{}: has no vertices, treated as a transform node", cx.what));
             }
             return Ok(());
         }
         if !flag(obj, "isVisible", true).map_err(e)? || !flag(obj, "isEnabled", true).map_err(e)? {
-            self.warn(format!(
-                "{}: hidden (isVisible/isEnabled false), skipped",
-                cx.what
-            ));
+            self.warn(format!("{}: hidden (isVisible/isEnabled false), skipped", cx.what));
             return Ok(());
         }
 
         // Vertex data.
         let p = &geom.positions;
         if p.len() % 3 != 0 {
-            return Err(cx.err(format!(
-                "positions: {} numbers is not a multiple of 3",
-                p.len()
-            )));
+            return Err(cx.err(format!("positions: {} numbers is not a multiple of 3", p.len())));
         }
         let n = p.len() / 3;
         if u32::try_from(n).is_err() {
             return Err(cx.err(format!("positions: {n} vertices is more than 2^32 - 1")));
         }
-        let sizes = [
-            ("normals", &geom.normals, 3),
-            ("uvs", &geom.uvs[0], 2),
-            ("uvs2", &geom.uvs[1], 2),
-        ];
+        let sizes = [("normals", &geom.normals, 3), ("uvs", &geom.uvs[0], 2), ("uvs2", &geom.uvs[1], 2)];
         for (key, data, per) in sizes {
             if let Some(d) = data.as_ref().filter(|d| d.len() != per * n) {
-                return Err(cx.err(format!(
-                    "{key}: {} numbers but {n} vertices need {}",
-                    d.len(),
-                    per * n
-                )));
+                return Err(cx.err(format!("{key}: {} numbers but {n} vertices need {}", d.len(), per * n)));
             }
         }
         let colors = match &geom.colors {
             None => None,
-            Some(c) if c.len() == 4 * n => Some(
-                c.chunks_exact(4)
-                    .map(|c| [c[0], c[1], c[2], c[3]])
-                    .collect(),
-            ),
-            Some(c) if c.len() == 3 * n => {
-                Some(c.chunks_exact(3).map(|c| [c[0], c[1], c[2], 1.]).collect())
-            }
+            Some(c) if c.len() == 4 * n => Some(c.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect()),
+            Some(c) if c.len() == 3 * n => Some(c.chunks_exact(3).map(|c| [c[0], c[1], c[2], 1.]).collect()),
             Some(c) => {
                 return Err(cx.err(format!(
                     "colors: {} numbers but {n} vertices need {} (RGBA) or {} (RGB)",
@@ -1058,17 +858,10 @@ impl<'a> Reader<'a> {
         let indices = match geom.indices {
             Some(ix) => ix,
             None if n % 3 == 0 => (0..n as u32).collect(),
-            None => {
-                return Err(cx.err(format!(
-                    "no indices, and the {n} vertices are not a whole number of triangles"
-                )))
-            }
+            None => return Err(cx.err(format!("no indices, and the {n} vertices are not a whole number of triangles"))),
         };
         if indices.len() % 3 != 0 || u32::try_from(indices.len()).is_err() {
-            return Err(cx.err(format!(
-                "indices: {} indices is not a multiple of 3 below 2^32",
-                indices.len()
-            )));
+            return Err(cx.err(format!("indices: {} indices is not a multiple of 3 below 2^32", indices.len())));
         }
         if let Some((i, ix)) = indices.iter().enumerate().find(|(_, &ix)| ix as usize >= n) {
             return Err(cx.err(format!("indices[{i}] = {ix} but only {n} vertices")));
@@ -1078,9 +871,7 @@ impl<'a> Reader<'a> {
 
         // Sub-meshes and their materials.
         let material_id = text(obj, "materialId").map_err(e)?;
-        let raw = geom
-            .submeshes
-            .unwrap_or_else(|| vec![[0, 0, indices.len() as u64]]);
+        let raw = geom.submeshes.unwrap_or_else(|| vec![[0, 0, indices.len() as u64]]);
         let (mut submeshes, mut slots, mut ranges) = (Vec::new(), Vec::new(), Vec::new());
         for (k, &[material_index, start, count]) in raw.iter().enumerate() {
             let end = start.saturating_add(count);
@@ -1091,7 +882,9 @@ impl<'a> Reader<'a> {
                 )));
             }
             if start % 3 != 0 || count % 3 != 0 {
-                return Err(cx.err(format!("subMeshes[{k}]: indexStart {start} and indexCount {count} must be multiples of 3")));
+                return Err(
+                    cx.err(format!("subMeshes[{k}]: indexStart {start} and indexCount {count} must be multiples of 3"))
+                );
             }
             if count == 0 {
                 continue;
@@ -1115,18 +908,12 @@ impl<'a> Reader<'a> {
             covered = if start == covered { end } else { u64::MAX };
         }
         if covered != indices.len() as u64 {
-            self.warn(format!(
-                "{}: subMeshes do not cover each index exactly once (drawn as written)",
-                cx.what
-            ));
+            self.warn(format!("{}: subMeshes do not cover each index exactly once (drawn as written)", cx.what));
         }
 
         let uvs = self.bake_uvs(&geom.uvs, &slots, &cx.what);
         let mesh = MeshData {
-            name: text(obj, "name")
-                .map_err(e)?
-                .or(text(obj, "id").map_err(e)?)
-                .unwrap_or_default(),
+            name: text(obj, "name").map_err(e)?.or(text(obj, "id").map_err(e)?).unwrap_or_default(),
             world: self.world(node)?,
             positions,
             normals,
@@ -1141,18 +928,9 @@ impl<'a> Reader<'a> {
     }
 
     /// Unit normals: the file's (a zero one replaced by the smooth normal), else smooth ones.
-    fn normals(
-        &mut self,
-        positions: &[[f32; 3]],
-        indices: &[u32],
-        given: Option<&[f32]>,
-        what: &str,
-    ) -> Vec<[f32; 3]> {
+    fn normals(&mut self, positions: &[[f32; 3]], indices: &[u32], given: Option<&[f32]>, what: &str) -> Vec<[f32; 3]> {
         let given: Vec<Option<[f32; 3]>> = match given {
-            Some(g) => g
-                .chunks_exact(3)
-                .map(|c| unit([c[0], c[1], c[2]]))
-                .collect(),
+            Some(g) => g.chunks_exact(3).map(|c| unit([c[0], c[1], c[2]])).collect(),
             None => vec![None; positions.len()],
         };
         let missing = given.iter().filter(|g| g.is_none()).count();
@@ -1160,16 +938,10 @@ impl<'a> Reader<'a> {
             return given.into_iter().flatten().collect();
         }
         if missing < positions.len() {
-            self.warn(format!(
-                "{what}: {missing} zero-length normals replaced by computed ones"
-            ));
+            self.warn(format!("{what}: {missing} zero-length normals replaced by computed ones"));
         }
         let smooth = smooth_normals(positions, indices);
-        given
-            .iter()
-            .zip(smooth)
-            .map(|(g, s)| g.or_else(|| unit(s)).unwrap_or([0., 1., 0.]))
-            .collect()
+        given.iter().zip(smooth).map(|(g, s)| g.or_else(|| unit(s)).unwrap_or([0., 1., 0.])).collect()
     }
 
     /// The mesh's UVs with the textured material's matrix and the UV origin applied.
@@ -1182,15 +954,11 @@ impl<'a> Reader<'a> {
         let maps: Vec<UvMap> = slots.iter().flatten().filter_map(|s| s.uv).collect();
         let map = maps.first().copied();
         if maps.iter().any(|m| Some(*m) != map) {
-            self.warn(format!(
-                "{what}: sub-meshes use different texture matrices; the first textured one is used"
-            ));
+            self.warn(format!("{what}: sub-meshes use different texture matrices; the first textured one is used"));
         }
         let mut set = map.map_or(0, |m| m.set);
         if set == 1 && sets[1].is_none() {
-            self.warn(format!(
-                "{what}: texture uses coordinatesIndex 1 but the mesh has no uvs2; uvs used"
-            ));
+            self.warn(format!("{what}: texture uses coordinatesIndex 1 but the mesh has no uvs2; uvs used"));
             set = 0;
         }
         let top = self.opts.uv_origin == UvOrigin::Top;
@@ -1201,23 +969,10 @@ impl<'a> Reader<'a> {
         Some(uvs.collect())
     }
 
-    fn read_instances(
-        &mut self,
-        node: usize,
-        mesh: usize,
-        mesh_cx: &Ctx,
-    ) -> Result<(), ConvertError> {
+    fn read_instances(&mut self, node: usize, mesh: usize, mesh_cx: &Ctx) -> Result<(), ConvertError> {
         let (obj, base) = (self.nodes[node].obj, self.nodes[node].trs);
-        for (k, inst) in list(obj, "instances")
-            .map_err(|m| mesh_cx.err(m))?
-            .iter()
-            .enumerate()
-        {
-            let cx = self.ctx(format!(
-                "{}: {}",
-                mesh_cx.what,
-                label(inst, "instance", "instances", k)
-            ));
+        for (k, inst) in list(obj, "instances").map_err(|m| mesh_cx.err(m))?.iter().enumerate() {
+            let cx = self.ctx(format!("{}: {}", mesh_cx.what, label(inst, "instance", "instances", k)));
             if !inst.is_object() {
                 return Err(cx.err(format!("expected an object, found {}", show(inst))));
             }
@@ -1230,8 +985,7 @@ impl<'a> Reader<'a> {
                 None => self.nodes[node].parent,
             };
             let world = mul(&trs.matrix(), &self.parent_world(parent)?);
-            let mesh =
-                u16::try_from(mesh).map_err(|_| cx.err("more than 65536 meshes with instances"))?;
+            let mesh = u16::try_from(mesh).map_err(|_| cx.err("more than 65536 meshes with instances"))?;
             self.scene.instances.push(InstanceData { mesh, world });
         }
         Ok(())
@@ -1240,21 +994,12 @@ impl<'a> Reader<'a> {
     // -----------------------------------------------------------------------------------------
     // Materials and textures.
 
-    fn submesh_material(
-        &mut self,
-        id: Option<&str>,
-        index: u64,
-        what: &str,
-    ) -> Result<Option<MatSlot>, ConvertError> {
+    fn submesh_material(&mut self, id: Option<&str>, index: u64, what: &str) -> Result<Option<MatSlot>, ConvertError> {
         let Some(id) = id else { return Ok(None) };
         let Some(subs) = self.multi.get(id) else {
             return self.material(id, what);
         };
-        match usize::try_from(index)
-            .ok()
-            .and_then(|i| subs.get(i))
-            .cloned()
-        {
+        match usize::try_from(index).ok().and_then(|i| subs.get(i)).cloned() {
             Some(Some(sub)) => self.material(&sub, what),
             Some(None) => Ok(None),
             None => {
@@ -1272,9 +1017,7 @@ impl<'a> Reader<'a> {
         let slot = match self.materials.get(id).copied() {
             Some(obj) => Some(self.convert_material(obj, id, what)?),
             None => {
-                self.warn(format!(
-                    "{what}: material {id:?} not found, default material used"
-                ));
+                self.warn(format!("{what}: material {id:?} not found, default material used"));
                 None
             }
         };
@@ -1284,26 +1027,12 @@ impl<'a> Reader<'a> {
 
     /// A StandardMaterial (`diffuse`, `diffuseTexture`) or a PBR material (`albedo`,
     /// `albedoColor`, `baseColor`, `albedoTexture`, `baseTexture`...).
-    fn convert_material(
-        &mut self,
-        obj: &Value,
-        id: &str,
-        what: &str,
-    ) -> Result<MatSlot, ConvertError> {
-        let name = text(obj, "name")
-            .ok()
-            .flatten()
-            .unwrap_or_else(|| id.to_owned());
+    fn convert_material(&mut self, obj: &Value, id: &str, what: &str) -> Result<MatSlot, ConvertError> {
+        let name = text(obj, "name").ok().flatten().unwrap_or_else(|| id.to_owned());
         let cx = self.ctx(format!("{what}: material {name:?}"));
         let e = |m: String| cx.err(m);
         let custom = text(obj, "customType").map_err(e)?.unwrap_or_default();
-        let pbr_keys = [
-            "albedo",
-            "albedoColor",
-            "albedoTexture",
-            "baseColor",
-            "baseTexture",
-        ];
+        let pbr_keys = ["albedo", "albedoColor", "albedoTexture", "baseColor", "baseTexture"];
         let pbr = custom.contains("PBR") || pbr_keys.iter().any(|k| get(obj, k).is_some());
         let (colour_keys, texture_keys): (&[&str], &[&str]) = if pbr {
             (
@@ -1334,17 +1063,11 @@ impl<'a> Reader<'a> {
             let opaque = get(obj, "transparencyMode").and_then(finite) == Some(0.);
             let keep_alpha = flag(tex, "hasAlpha", false).map_err(at)? && !opaque;
             data.texture = self.texture(tex, keep_alpha, &cx)?;
-            [data.wrap_u, data.wrap_v] = [
-                wrap(tex, "wrapU").map_err(at)?,
-                wrap(tex, "wrapV").map_err(at)?,
-            ];
+            [data.wrap_u, data.wrap_v] = [wrap(tex, "wrapU").map_err(at)?, wrap(tex, "wrapV").map_err(at)?];
             if data.texture.is_some() {
                 let mode = count(tex, "coordinatesMode", Some(0)).map_err(at)?;
                 if mode != 0 {
-                    self.warn(format!(
-                        "{}: {key}.coordinatesMode {mode} is not supported, explicit UVs used",
-                        cx.what
-                    ));
+                    self.warn(format!("{}: {key}.coordinatesMode {mode} is not supported, explicit UVs used", cx.what));
                 }
                 uv = Some(UvMap {
                     matrix: texture_matrix(tex).map_err(at)?,
@@ -1353,20 +1076,14 @@ impl<'a> Reader<'a> {
                 });
             }
         }
-        let index = u16::try_from(self.scene.materials.len())
-            .map_err(|_| cx.err("more than 65536 materials"))?;
+        let index = u16::try_from(self.scene.materials.len()).map_err(|_| cx.err("more than 65536 materials"))?;
         self.scene.materials.push(data);
         Ok(MatSlot { index, uv })
     }
 
     /// Decodes (once per name) a texture from its file or its `base64String`; a failure is a
     /// warning and `None`.
-    fn texture(
-        &mut self,
-        tex: &Value,
-        keep_alpha: bool,
-        cx: &Ctx,
-    ) -> Result<Option<u16>, ConvertError> {
+    fn texture(&mut self, tex: &Value, keep_alpha: bool, cx: &Ctx) -> Result<Option<u16>, ConvertError> {
         let at = |m: String| cx.err(m);
         let base64 = text(tex, "base64String").map_err(at)?;
         // Babylon.js ignores nameless textures, even embedded ones.
@@ -1381,10 +1098,7 @@ impl<'a> Reader<'a> {
             Ok(image) => Some(self.push_texture(name.clone(), image, keep_alpha, cx)?),
             Err(why) => {
                 let shown: String = name.chars().take(60).collect();
-                self.warn(format!(
-                    "{}: texture {shown:?} {why}, using the diffuse colour",
-                    cx.what
-                ));
+                self.warn(format!("{}: texture {shown:?} {why}, using the diffuse colour", cx.what));
                 None
             }
         };
@@ -1394,9 +1108,7 @@ impl<'a> Reader<'a> {
 
     fn load_image(&self, name: &str, base64: Option<&str>) -> Result<image::RgbaImage, String> {
         let bytes = match base64.or_else(|| name.starts_with("data:").then_some(name)) {
-            Some(b64) => {
-                decode_base64(b64).map_err(|e| format!("has invalid base64 data ({e})"))?
-            }
+            Some(b64) => decode_base64(b64).map_err(|e| format!("has invalid base64 data ({e})"))?,
             None => {
                 let dir = self.base_dir.ok_or("not found (no directory to look in)")?;
                 let path = dir.join(name);
@@ -1404,13 +1116,8 @@ impl<'a> Reader<'a> {
             }
         };
         // The content decides (embedded JPEG names hide PNGs); TGA has no signature: use the name.
-        let mut formats: Vec<image::ImageFormat> =
-            image::guess_format(&bytes).into_iter().collect();
-        formats.extend(
-            image::ImageFormat::from_path(name)
-                .ok()
-                .filter(|f| !formats.contains(f)),
-        );
+        let mut formats: Vec<image::ImageFormat> = image::guess_format(&bytes).into_iter().collect();
+        formats.extend(image::ImageFormat::from_path(name).ok().filter(|f| !formats.contains(f)));
         let mut why = String::from("is in an unknown image format");
         for format in formats {
             match image::load_from_memory_with_format(&bytes, format) {
@@ -1438,15 +1145,9 @@ impl<'a> Reader<'a> {
         if !keep_alpha {
             image.pixels_mut().for_each(|p| p.0[3] = 255);
         }
-        let index = u16::try_from(self.scene.textures.len())
-            .map_err(|_| cx.err("more than 65536 textures"))?;
+        let index = u16::try_from(self.scene.textures.len()).map_err(|_| cx.err("more than 65536 textures"))?;
         let (width, height) = (w as u16, h as u16); // texture_size keeps both in 1..=65535
-        self.scene.textures.push(TextureData {
-            name,
-            width,
-            height,
-            rgba: image.into_raw(),
-        });
+        self.scene.textures.push(TextureData { name, width, height, rgba: image.into_raw() });
         Ok(index)
     }
 
@@ -1464,10 +1165,7 @@ impl<'a> Reader<'a> {
                 Some(3) => LightKind::Hemispheric,
                 _ => {
                     let t = get(l, "type").map_or("missing".into(), show);
-                    self.warn(format!(
-                        "{}: light type {t} is not supported, skipped",
-                        cx.what
-                    ));
+                    self.warn(format!("{}: light type {t} is not supported, skipped", cx.what));
                     continue;
                 }
             };
@@ -1501,15 +1199,11 @@ impl<'a> Reader<'a> {
             Some(id) => Some(id),
             None => text(self.root, "activeCamera").map_err(|m| scx.err(m))?,
         };
-        let found = active.as_deref().and_then(|id| {
-            cameras
-                .iter()
-                .position(|c| text(c, "id").ok().flatten().as_deref() == Some(id))
-        });
+        let found = active
+            .as_deref()
+            .and_then(|id| cameras.iter().position(|c| text(c, "id").ok().flatten().as_deref() == Some(id)));
         if let (Some(id), None, false) = (&active, found, cameras.is_empty()) {
-            self.warn(format!(
-                "active camera {id:?} not found, the first camera used"
-            ));
+            self.warn(format!("active camera {id:?} not found, the first camera used"));
         }
         let Some(i) = found.or((!cameras.is_empty()).then_some(0)) else {
             return Ok(());
@@ -1521,10 +1215,7 @@ impl<'a> Reader<'a> {
             return Err(cx.err(format!("expected an object, found {}", show(c))));
         }
         let position = vector(c, "position").map_err(e)?.unwrap_or([0.; 3]);
-        let target = match (
-            vector(c, "target").map_err(e)?,
-            text(c, "lockedTargetId").map_err(e)?,
-        ) {
+        let target = match (vector(c, "target").map_err(e)?, text(c, "lockedTargetId").map_err(e)?) {
             (Some(t), _) => t,
             (None, Some(id)) if self.ids.contains_key(&id) => {
                 let w = self.world(self.ids[&id])?;
@@ -1532,11 +1223,7 @@ impl<'a> Reader<'a> {
             }
             _ if text(c, "type").map_err(e)?.as_deref() == Some("ArcRotateCamera") => [0.; 3],
             _ => {
-                let forward = transform(
-                    &Trs::read(c, Trs::IDENTITY).map_err(e)?.rotation_matrix(),
-                    [0., 0., 1.],
-                    0.,
-                );
+                let forward = transform(&Trs::read(c, Trs::IDENTITY).map_err(e)?.rotation_matrix(), [0., 0., 1.], 0.);
                 core::array::from_fn(|k| position[k] + forward[k])
             }
         };
@@ -1575,25 +1262,15 @@ fn decode_base64(s: &str) -> Result<Vec<u8>, base64::DecodeError> {
             .with_decode_padding_mode(DecodePaddingMode::Indifferent)
             .with_decode_allow_trailing_bits(true),
     );
-    let payload = if s.starts_with("data:") {
-        s.split_once(',').map_or("", |(_, p)| p)
-    } else {
-        s
-    };
-    let clean: String = payload
-        .chars()
-        .filter(|c| !c.is_ascii_whitespace())
-        .collect();
+    let payload = if s.starts_with("data:") { s.split_once(',').map_or("", |(_, p)| p) } else { s };
+    let clean: String = payload.chars().filter(|c| !c.is_ascii_whitespace()).collect();
     ENGINE.decode(clean)
 }
 
 /// The size a `w` x `h` image is stored at: `max_texture`, then `power_of_two`, and never more
 /// than 65535 on a side.
 fn texture_size(w: u32, h: u32, opts: &ConvertOptions) -> (u32, u32) {
-    let limit = opts
-        .max_texture
-        .unwrap_or(u32::MAX)
-        .clamp(1, u32::from(u16::MAX));
+    let limit = opts.max_texture.unwrap_or(u32::MAX).clamp(1, u32::from(u16::MAX));
     let (mut w, mut h) = (w.max(1), h.max(1));
     if w.max(h) > limit {
         let scale = f64::from(limit) / f64::from(w.max(h));
@@ -1630,20 +1307,11 @@ mod tests {
     fn euler_order_is_z_then_x_then_y() {
         let (rx, ry, rz) = (0.3, -0.7, 1.1);
         let single = |r| euler_matrix(r);
-        let expected = mul(
-            &mul(&single([0., 0., rz]), &single([rx, 0., 0.])),
-            &single([0., ry, 0.]),
-        );
+        let expected = mul(&mul(&single([0., 0., rz]), &single([rx, 0., 0.])), &single([0., ry, 0.]));
         assert!(close(&euler_matrix([rx, ry, rz]), &expected));
         // Rz(a) maps x to (c, s, 0); Rx(a) maps y to (0, c, s).
-        assert!(close(
-            &transform(&single([0., 0., 0.4]), [1., 0., 0.], 0.),
-            &[libm::cosf(0.4), libm::sinf(0.4), 0.]
-        ));
-        assert!(close(
-            &transform(&single([0.4, 0., 0.]), [0., 1., 0.], 0.),
-            &[0., libm::cosf(0.4), libm::sinf(0.4)]
-        ));
+        assert!(close(&transform(&single([0., 0., 0.4]), [1., 0., 0.], 0.), &[libm::cosf(0.4), libm::sinf(0.4), 0.]));
+        assert!(close(&transform(&single([0.4, 0., 0.]), [0., 1., 0.], 0.), &[0., libm::cosf(0.4), libm::sinf(0.4)]));
     }
 
     #[test]
@@ -1655,20 +1323,10 @@ mod tests {
             scaling: [2., 1., 1.],
         };
         // (1,0,0) scaled to (2,0,0), rotated by Ry(90°) to (0,0,-2), translated to (1,2,1).
-        assert!(close(
-            &transform(&trs.matrix(), [1., 0., 0.], 1.),
-            &[1., 2., 1.]
-        ));
+        assert!(close(&transform(&trs.matrix(), [1., 0., 0.], 1.), &[1., 2., 1.]));
         // World = Local · World(parent): the child's transform applies first.
-        let parent = Trs {
-            position: [10., 0., 0.],
-            ..Trs::IDENTITY
-        }
-        .matrix();
-        assert!(close(
-            &transform(&mul(&trs.matrix(), &parent), [1., 0., 0.], 1.),
-            &[11., 2., 1.]
-        ));
+        let parent = Trs { position: [10., 0., 0.], ..Trs::IDENTITY }.matrix();
+        assert!(close(&transform(&mul(&trs.matrix(), &parent), [1., 0., 0.], 1.), &[11., 2., 1.]));
     }
 
     #[test]
@@ -1678,11 +1336,7 @@ mod tests {
         assert!(close(&m, &[5., 0., 0.25, 0., -1., 0.5]), "{m:?}");
         // wAng rotates around the centre (0.5, 0.5): the centre stays put.
         let rot = texture_matrix(&serde_json::json!({"wAng": 1.0})).unwrap();
-        let map = UvMap {
-            matrix: rot,
-            set: 0,
-            flip: false,
-        };
+        let map = UvMap { matrix: rot, set: 0, flip: false };
         assert!(close(&map.apply([0.5, 0.5]), &[0.5, 0.5]));
     }
 
@@ -1694,11 +1348,7 @@ mod tests {
 
     #[test]
     fn texture_sizes() {
-        let o = |max_texture, power_of_two| ConvertOptions {
-            max_texture,
-            power_of_two,
-            ..Default::default()
-        };
+        let o = |max_texture, power_of_two| ConvertOptions { max_texture, power_of_two, ..Default::default() };
         assert_eq!(texture_size(512, 256, &o(Some(128), false)), (128, 64));
         assert_eq!(texture_size(300, 100, &o(None, true)), (256, 64));
         assert_eq!(texture_size(1000, 3, &o(Some(100), true)), (64, 1));

@@ -6,6 +6,4 @@
 pub mod babylon;
 pub mod scene;
 
-pub use babylon::{
-    read_babylon, read_babylon_file, ConvertError, ConvertOptions, UvOrigin, Warning,
-};
+pub use babylon::{read_babylon, read_babylon_file, ConvertError, ConvertOptions, UvOrigin, Warning};

@@ -10,9 +10,7 @@ use std::vec::Vec;
 pub type Matrix = [f32; 16];
 
 /// The identity [`Matrix`].
-pub const IDENTITY: Matrix = [
-    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
-];
+pub const IDENTITY: Matrix = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
 
 /// A whole converted scene.
 #[derive(Clone, Debug, Default, PartialEq)]
