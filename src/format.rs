@@ -620,7 +620,7 @@ impl<'a> Model<'a> {
         let vertices = u32_at(d, at + mesh::VERTEX_COUNT.start);
         let indices = u32_at(d, at + mesh::INDEX_COUNT.start);
         let flags = u16_at(d, at + mesh::FLAGS.start);
-        if vertices == 0 || indices % 3 != 0 || flags > 15 {
+        if vertices == 0 || !indices.is_multiple_of(3) || flags > 15 {
             return Err(invalid(Part::Mesh, at + mesh::VERTEX_COUNT.start));
         }
         let nv = vertices as usize;
@@ -665,7 +665,7 @@ impl<'a> Model<'a> {
             let start = u32_at(d, s + submesh::INDEX_START.start);
             let count = u32_at(d, s + submesh::INDEX_COUNT.start);
             let in_range = start.checked_add(count).is_some_and(|end| end <= indices);
-            if !in_range || start % 3 != 0 || count % 3 != 0 {
+            if !in_range || !start.is_multiple_of(3) || !count.is_multiple_of(3) {
                 return Err(invalid(Part::SubMesh, s + submesh::INDEX_START.start));
             }
         }
@@ -1335,7 +1335,7 @@ mod emit {
         {
             return Err(fail("normals/uvs/colors and positions differ in length".into()));
         }
-        if m.indices.len() % 3 != 0 {
+        if !m.indices.len().is_multiple_of(3) {
             return Err(fail(std::format!("{} indices is not a multiple of 3", m.indices.len())));
         }
         if let Some((k, i)) = m.indices.iter().enumerate().find(|(_, &i)| i as usize >= nv) {

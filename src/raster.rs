@@ -243,9 +243,9 @@ impl<const V: usize> Setup<V> {
         let den = sum >> s;
         let b1 = ((n1 >> s) << 16) / den;
         let b2 = ((n2 >> s) << 16) / den;
-        for k in 0..V {
-            let delta = self.d1[k] as i64 * b1 as i64 + self.d2[k] as i64 * b2 as i64;
-            out[k] = out[k].wrapping_add((delta >> 16) as i32);
+        for ((o, d1), d2) in out.iter_mut().zip(self.d1).zip(self.d2) {
+            let delta = d1 as i64 * b1 as i64 + d2 as i64 * b2 as i64;
+            *o = o.wrapping_add((delta >> 16) as i32);
         }
         out
     }

@@ -5,8 +5,8 @@ use crate::clip::{clip_triangle, ClipResult, ClipVertex, Planes, Polygon};
 use crate::format::{Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3, Vec4};
 use crate::raster::{Reject, ScreenVertex, Setup, Window, MAX_VARYINGS};
-use crate::shade::{modulate, Filter, Lights, Sampler};
-use crate::target::{Band, DepthBuffer, FrameColor, GUARD_HALF_EXTENT};
+use crate::shade::{modulate, Filter, Lights, PixelLights, Sampler};
+use crate::target::{Band, DepthBuffer, FrameColor, NoDepth, GUARD_HALF_EXTENT};
 
 /// How surfaces are lit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -18,6 +18,8 @@ pub enum Shading {
     /// Light per vertex, interpolated perspective-correctly.
     #[default]
     Gouraud,
+    /// Normal (and position) interpolated per pixel, normalised, and lit per pixel.
+    Phong,
 }
 
 /// What is drawn of each triangle.
@@ -30,6 +32,8 @@ pub enum Mode {
     Wireframe,
     /// Vertices of the visible triangles.
     Points,
+    /// Filled triangles with their edges drawn over them (debug view).
+    SolidWireframe,
 }
 
 /// Per-frame choices.
@@ -46,11 +50,24 @@ pub struct RenderOptions {
     pub subspan: u32,
     /// Whether textures are used (false: material colour only).
     pub textures: bool,
+    /// Ordered (4x4 Bayer) dithering when the target has fewer than 8 bits per channel.
+    pub dither: bool,
+    /// Colour of wireframe edges in [`Mode::SolidWireframe`] (and of [`Mode::Wireframe`] and
+    /// [`Mode::Points`] when `Some`; `None` uses the material colour there).
+    pub wire_color: Option<[u8; 3]>,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        Self { shading: Shading::Gouraud, mode: Mode::Solid, filter: Filter::Nearest, subspan: 1, textures: true }
+        Self {
+            shading: Shading::Gouraud,
+            mode: Mode::Solid,
+            filter: Filter::Nearest,
+            subspan: 1,
+            textures: true,
+            dither: false,
+            wire_color: None,
+        }
     }
 }
 
@@ -91,10 +108,13 @@ impl core::ops::AddAssign for Stats {
     }
 }
 
-// Varying slots.
+// Varying slots. Unlit/flat/Gouraud: U, V, light r, g, b. Phong: U, V, normal x, y, z,
+// world position x, y, z.
 const U: usize = 0;
 const V: usize = 1;
-const LIGHT: usize = 2; // 2, 3, 4: red, green, blue light (times vertex colour)
+const LIGHT: usize = 2;
+const NORMAL: usize = 2;
+const POSITION: usize = 5;
 
 /// 1.0 in varying units.
 const ONE: f32 = 65536.0;
@@ -109,24 +129,12 @@ pub fn draw_model<C: FrameColor, D: DepthBuffer, const L: usize>(
     lights: &Lights<L>,
     opts: &RenderOptions,
 ) -> Stats {
+    let ctx = Context::new(band, camera, lights, opts);
     let mut stats = Stats::default();
     for (mesh, world) in model.draws() {
-        stats += draw_mesh(band, model, &mesh, transform * world, camera, lights, opts);
+        stats += draw_mesh_with(band, &ctx, model, &mesh, transform * world);
     }
     stats
-}
-
-/// Per-draw constants.
-struct DrawSetup<'a> {
-    mvp: Mat4,
-    model_q: Mat4,
-    normals: Mat3,
-    flip: bool,
-    planes: Planes,
-    window: Window,
-    half: (f32, f32),
-    uv: ([f32; 2], [f32; 2]),
-    mesh: Mesh<'a>,
 }
 
 /// Draws one mesh with the given model (local-to-world) matrix.
@@ -139,39 +147,173 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
     lights: &Lights<L>,
     opts: &RenderOptions,
 ) -> Stats {
-    let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
+    let ctx = Context::new(band, camera, lights, opts);
+    draw_mesh_with(band, &ctx, model, mesh, world)
+}
+
+/// One entry of the painter's-mode scratch list: a triangle and its sort key.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SortEntry {
+    key: u32,
+    draw: u16,
+    triangle: u32,
+}
+
+/// The painter's-mode scratch slice is shorter than the model's triangle count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ScratchTooSmall {
+    /// Entries needed (triangles of all draws).
+    pub needed: usize,
+    /// Entries given.
+    pub given: usize,
+}
+
+impl core::fmt::Display for ScratchTooSmall {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "painter's mode needs {} scratch entries, got {}", self.needed, self.given)
+    }
+}
+
+/// Painter's algorithm for boards without RAM for a depth buffer: sorts every triangle back to
+/// front by its farthest vertex (in `scratch`, one entry a triangle; no allocation), then draws
+/// them in that order without depth testing. Intersecting or cyclically overlapping triangles
+/// can show the classic painter's errors; a z-buffer does not.
+///
+/// # Errors
+/// [`ScratchTooSmall`] when `scratch` has fewer entries than the model has triangles (counting
+/// instances); nothing is drawn then.
+pub fn draw_model_sorted<C: FrameColor, const L: usize>(
+    band: &mut Band<'_, C, NoDepth>,
+    model: &Model<'_>,
+    transform: Mat4,
+    camera: &Camera,
+    lights: &Lights<L>,
+    opts: &RenderOptions,
+    scratch: &mut [SortEntry],
+) -> Result<Stats, ScratchTooSmall> {
+    let needed: usize = model.draws().map(|(m, _)| m.triangle_count() as usize).sum();
+    if scratch.len() < needed || model.draws().count() > u16::MAX as usize {
+        return Err(ScratchTooSmall { needed, given: scratch.len() });
+    }
+    let ctx = Context::new(band, camera, lights, opts);
     let vp = camera.view_projection();
-    if !sphere_visible(&vp, &world, mesh.bounding_sphere()) {
+    let mut n = 0;
+    for (d, (mesh, world)) in model.draws().enumerate() {
+        let mvp = vp * transform * world * mesh.dequantize();
+        for t in 0..mesh.triangle_count() {
+            let w = mesh.triangle(t).map(|i| (mvp * mesh.position_stored(i).extend(1.0)).w);
+            let far = w[0].max(w[1]).max(w[2]);
+            // Positive floats order like their bits; NaN and negatives sort as nearest.
+            let key = if far > 0.0 { far.to_bits() } else { 0 };
+            scratch[n] = SortEntry { key, draw: d as u16, triangle: t };
+            n += 1;
+        }
+    }
+    let list = &mut scratch[..n];
+    list.sort_unstable_by_key(|e| core::cmp::Reverse(e.key));
+    let mut stats = Stats::default();
+    let mut current: Option<(u16, DrawSetup<'_>)> = None;
+    for e in list.iter() {
+        if current.as_ref().is_none_or(|(d, _)| *d != e.draw) {
+            current = model
+                .draws()
+                .nth(e.draw as usize)
+                .map(|(mesh, world)| (e.draw, DrawSetup::new(band, &ctx, mesh, transform * world)));
+        }
+        let Some((_, setup)) = &current else { continue };
+        stats.triangles_submitted += 1;
+        let sub = setup
+            .mesh
+            .submeshes()
+            .find(|s| (s.first_triangle..s.first_triangle + s.triangle_count).contains(&e.triangle));
+        let material = sub.and_then(|s| s.material).and_then(|m| model.material(m)).unwrap_or_default();
+        let sampler = ctx.sampler(model, &setup.mesh, &material);
+        draw_triangle(band, &ctx, setup, e.triangle, &material, sampler.as_ref(), &mut stats);
+    }
+    Ok(stats)
+}
+
+/// Per-frame constants shared by every draw.
+struct Context<'l, const L: usize> {
+    vp: Mat4,
+    lights: &'l Lights<L>,
+    pixel_lights: PixelLights<L>,
+    opts: RenderOptions,
+    planes: Planes,
+    window: Window,
+    half: (f32, f32),
+}
+
+impl<'l, const L: usize> Context<'l, L> {
+    fn new<C, D>(band: &Band<'_, C, D>, camera: &Camera, lights: &'l Lights<L>, opts: &RenderOptions) -> Self {
+        let (w, h) = (band.width as f32, band.height as f32);
+        Context {
+            vp: camera.view_projection(),
+            lights,
+            pixel_lights: PixelLights::new(lights),
+            opts: *opts,
+            planes: Planes { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
+            window: Window {
+                width: band.width as i32,
+                row_start: band.first_row as i32,
+                row_end: band.first_row as i32 + band.rows as i32,
+            },
+            half: (w * 0.5, h * 0.5),
+        }
+    }
+
+    fn sampler<'m>(&self, model: &Model<'m>, mesh: &Mesh<'_>, material: &Material) -> Option<Sampler<'m>> {
+        material
+            .texture
+            .filter(|_| self.opts.textures && mesh.has_uvs())
+            .and_then(|t| model.texture(t))
+            .map(|t| Sampler::new(t, material.wrap_u, material.wrap_v, self.opts.filter))
+    }
+}
+
+/// Per-draw constants.
+struct DrawSetup<'a> {
+    mvp: Mat4,
+    model_q: Mat4,
+    normals: Mat3,
+    flip: bool,
+    uv: ([f32; 2], [f32; 2]),
+    mesh: Mesh<'a>,
+}
+
+impl<'a> DrawSetup<'a> {
+    fn new<C, D, const L: usize>(_band: &Band<'_, C, D>, ctx: &Context<'_, L>, mesh: Mesh<'a>, world: Mat4) -> Self {
+        let model_q = world * mesh.dequantize();
+        DrawSetup {
+            mvp: ctx.vp * model_q,
+            model_q,
+            normals: normal_matrix(&world),
+            flip: Mat3::from_mat4(world).determinant() < 0.0,
+            uv: mesh.uv_transform(),
+            mesh,
+        }
+    }
+}
+
+fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    model: &Model<'_>,
+    mesh: &Mesh<'_>,
+    world: Mat4,
+) -> Stats {
+    let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
+    if !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
         stats.culled_frustum_mesh = mesh.triangle_count();
         return stats;
     }
-    let (w, h) = (band.width as f32, band.height as f32);
-    let model_q = world * mesh.dequantize();
-    let setup = DrawSetup {
-        mvp: vp * model_q,
-        model_q,
-        normals: normal_matrix(&world),
-        flip: Mat3::from_mat4(world).determinant() < 0.0,
-        planes: Planes { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
-        window: Window {
-            width: band.width as i32,
-            row_start: band.first_row as i32,
-            row_end: band.first_row as i32 + band.rows as i32,
-        },
-        half: (w * 0.5, h * 0.5),
-        uv: mesh.uv_transform(),
-        mesh: *mesh,
-    };
+    let setup = DrawSetup::new(band, ctx, *mesh, world);
     for sub in mesh.submeshes() {
         let material = sub.material.and_then(|m| model.material(m)).unwrap_or_default();
-        let sampler = material
-            .texture
-            .filter(|_| opts.textures && mesh.has_uvs())
-            .and_then(|t| model.texture(t))
-            .map(|t| Sampler::new(t, material.wrap_u, material.wrap_v, opts.filter));
+        let sampler = ctx.sampler(model, mesh, &material);
         let first = sub.first_triangle;
         for t in first..first + sub.triangle_count {
-            draw_triangle(band, &setup, t, &material, sampler.as_ref(), lights, opts, &mut stats);
+            draw_triangle(band, ctx, &setup, t, &material, sampler.as_ref(), &mut stats);
         }
     }
     stats
@@ -193,20 +335,19 @@ fn sphere_visible(vp: &Mat4, world: &Mat4, (centre, radius): (Vec3, f32)) -> boo
     ];
     planes.iter().all(|p| {
         let n = p.truncate().length();
-        // A NaN anywhere makes this comparison false: draw, and let clipping cull per triangle.
-        !(p.truncate().dot(c) + p.w < -r * n)
+        // A NaN anywhere makes `outside` false: draw, and let clipping cull per triangle.
+        let outside = p.truncate().dot(c) + p.w < -r * n;
+        !outside
     })
 }
 
-#[allow(clippy::too_many_arguments)]
 fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     t: u32,
     material: &Material,
     sampler: Option<&Sampler<'_>>,
-    lights: &Lights<L>,
-    opts: &RenderOptions,
     stats: &mut Stats,
 ) {
     let idx = s.mesh.triangle(t);
@@ -216,22 +357,9 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         stats.culled_frustum += 1;
         return;
     }
-    let lit = vertex_light(s, &idx, &qv, lights, opts.shading);
-    let tex_size = sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * ONE, sm.height() as f32 * ONE));
-    let tri: [ClipVertex; 3] = core::array::from_fn(|k| {
-        let uv = s.mesh.uv_q(idx[k]);
-        let (o, sc) = s.uv;
-        let mut varyings = [0.0; MAX_VARYINGS];
-        varyings[U] = (o[0] + uv[0] as f32 * sc[0]) * tex_size.0;
-        varyings[V] = (o[1] + uv[1] as f32 * sc[1]) * tex_size.1;
-        let c = s.mesh.color(idx[k]);
-        for ch in 0..3 {
-            varyings[LIGHT + ch] = lit[k][ch] * (c[ch] as f32 / 255.0) * ONE;
-        }
-        ClipVertex { pos: clip[k], varyings }
-    });
+    let tri = vertex_varyings(ctx, s, &idx, &qv, &clip, sampler);
     let mut poly = Polygon::new();
-    match clip_triangle(&tri, &s.planes, &mut poly) {
+    match clip_triangle(&tri, &ctx.planes, &mut poly) {
         ClipResult::Outside => {
             stats.culled_frustum += 1;
             return;
@@ -242,36 +370,37 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         ClipResult::Clipped => stats.clipped += 1,
     }
     let screen: heapless::Vec<ScreenVertex, { crate::clip::MAX_CLIPPED }> =
-        poly.iter().map(|v| project(v, s.half)).collect();
-    match opts.mode {
-        Mode::Solid => {
-            for k in 1..screen.len() - 1 {
-                let tri = [screen[0], screen[k], screen[k + 1]];
-                fill(band, s, &tri, material, sampler, opts, stats);
-            }
+        poly.iter().map(|v| project(v, ctx.half)).collect();
+    let mode = ctx.opts.mode;
+    if matches!(mode, Mode::Solid | Mode::SolidWireframe) {
+        for k in 1..screen.len() - 1 {
+            let tri = [screen[0], screen[k], screen[k + 1]];
+            fill(band, ctx, s.flip, &tri, material, sampler, stats);
         }
-        Mode::Wireframe | Mode::Points => {
-            // Cull as a filled triangle would, then draw the outline or corners.
-            let tri = [screen[0], screen[1], screen[2]];
-            if let Err(r) = Setup::<0>::new(
-                &tri,
-                &Window { width: band.width as i32, row_start: 0, row_end: band.height as i32 },
-                material.cull_back_faces,
-                s.flip,
-            ) {
-                if r != Reject::Empty {
+    }
+    if matches!(mode, Mode::Wireframe | Mode::Points | Mode::SolidWireframe) {
+        // Cull as a filled triangle would, then draw the outline or corners.
+        let tri = [screen[0], screen[1], screen[2]];
+        let whole = Window { width: band.width as i32, row_start: 0, row_end: band.height as i32 };
+        match Setup::<0>::new(&tri, &whole, material.cull_back_faces, s.flip) {
+            Err(r) if r != Reject::Empty => {
+                if mode != Mode::SolidWireframe {
                     count_reject(r, stats);
-                    return;
                 }
+                return;
             }
+            _ => {}
+        }
+        if mode != Mode::SolidWireframe {
             stats.drawn += 1;
-            let color = C::from_rgb888([material.rgba[0], material.rgba[1], material.rgba[2]]);
-            for k in 0..screen.len() {
-                if opts.mode == Mode::Points {
-                    plot(band, &screen[k], color, stats);
-                } else {
-                    line(band, &screen[k], &screen[(k + 1) % screen.len()], color, stats);
-                }
+        }
+        let rgb = ctx.opts.wire_color.unwrap_or([material.rgba[0], material.rgba[1], material.rgba[2]]);
+        let color = C::from_rgb888(rgb);
+        for k in 0..screen.len() {
+            if mode == Mode::Points {
+                plot(band, &screen[k], color, stats);
+            } else {
+                line(band, &screen[k], &screen[(k + 1) % screen.len()], color, stats);
             }
         }
     }
@@ -285,34 +414,53 @@ fn count_reject(r: Reject, stats: &mut Stats) {
     }
 }
 
-/// Light (0..=1 per channel) at each vertex of triangle `idx` for the shading mode.
-fn vertex_light<const L: usize>(
+/// The clip-space triangle with its varyings for the shading mode (see the slot constants).
+fn vertex_varyings<const L: usize>(
+    ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     idx: &[u32; 3],
     qv: &[Vec4; 3],
-    lights: &Lights<L>,
-    shading: Shading,
-) -> [Vec3; 3] {
-    let world = |k: usize| (s.model_q * qv[k]).truncate();
-    match shading {
-        Shading::Unlit => [Vec3::ONE; 3],
+    clip: &[Vec4; 3],
+    sampler: Option<&Sampler<'_>>,
+) -> [ClipVertex; 3] {
+    let world: [Vec3; 3] = core::array::from_fn(|k| (s.model_q * qv[k]).truncate());
+    let normal = |k: usize| normalize_or_zero(s.normals * s.mesh.normal(idx[k]));
+    let lights = ctx.lights;
+    // Light per vertex (unlit, flat, Gouraud) or nothing (Phong lights per pixel).
+    let lit: [Vec3; 3] = match ctx.opts.shading {
+        Shading::Unlit | Shading::Phong => [Vec3::ONE; 3],
         Shading::Flat => {
-            let p = [world(0), world(1), world(2)];
             // Face normal from the world-space triangle. Front faces wind counter-clockwise as
             // seen (y up), and with +z pointing away from the viewer that makes
             // (p2-p0) x (p1-p0) point towards the viewer, i.e. outward.
+            let p = &world;
             let mut n = normalize_or_zero((p[2] - p[0]).cross(p[1] - p[0]));
             if s.flip {
                 n = -n;
             }
-            let centre = (p[0] + p[1] + p[2]) / 3.0;
-            [lights.at(centre, n); 3]
+            [lights.at((p[0] + p[1] + p[2]) / 3.0, n); 3]
         }
-        Shading::Gouraud => core::array::from_fn(|k| {
-            let n = normalize_or_zero(s.normals * s.mesh.normal(idx[k]));
-            lights.at(world(k), n)
-        }),
-    }
+        Shading::Gouraud => core::array::from_fn(|k| lights.at(world[k], normal(k))),
+    };
+    let tex_size = sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * ONE, sm.height() as f32 * ONE));
+    core::array::from_fn(|k| {
+        let uv = s.mesh.uv_q(idx[k]);
+        let (o, sc) = s.uv;
+        let mut varyings = [0.0; MAX_VARYINGS];
+        varyings[U] = (o[0] + uv[0] as f32 * sc[0]) * tex_size.0;
+        varyings[V] = (o[1] + uv[1] as f32 * sc[1]) * tex_size.1;
+        if ctx.opts.shading == Shading::Phong {
+            let n = normal(k);
+            varyings[NORMAL..NORMAL + 3].copy_from_slice(&(n * ONE).to_array());
+            varyings[POSITION..POSITION + 3].copy_from_slice(&(world[k] * ONE).to_array());
+        } else {
+            let c = s.mesh.color(idx[k]);
+            for ch in 0..3 {
+                varyings[LIGHT + ch] = lit[k][ch] * (c[ch] as f32 / 255.0) * ONE;
+            }
+        }
+        ClipVertex { pos: clip[k], varyings }
+    })
 }
 
 /// Clip space to screen: viewport mapping, 1/16-pixel snapping, fixed-point varyings.
@@ -331,44 +479,109 @@ fn project(v: &ClipVertex, (hw, hh): (f32, f32)) -> ScreenVertex {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn fill<C: FrameColor, D: DepthBuffer>(
+/// Where a fragment's unlit colour comes from.
+trait Base {
+    /// The colour at texel coordinates `(u, v)`, or `None` for a cut-out texel.
+    fn base(&self, u: i32, v: i32) -> Option<[u8; 3]>;
+}
+
+/// Untextured: the material's diffuse colour.
+struct Diffuse([u8; 3]);
+
+impl Base for Diffuse {
+    #[inline]
+    fn base(&self, _: i32, _: i32) -> Option<[u8; 3]> {
+        Some(self.0)
+    }
+}
+
+impl Base for Sampler<'_> {
+    #[inline]
+    fn base(&self, u: i32, v: i32) -> Option<[u8; 3]> {
+        let t = self.sample(u, v);
+        (t[3] >= 128).then_some([t[0], t[1], t[2]])
+    }
+}
+
+/// Where a fragment's light comes from.
+trait Lighting {
+    /// Light per channel in 16.16 (1.0 = 65536) from the pixel's varyings.
+    fn light(&self, v: &[i32; MAX_VARYINGS]) -> [i32; 3];
+}
+
+/// Light interpolated from the vertices (unlit, flat, Gouraud).
+struct Interpolated;
+
+impl Lighting for Interpolated {
+    #[inline]
+    fn light(&self, v: &[i32; MAX_VARYINGS]) -> [i32; 3] {
+        [v[LIGHT], v[LIGHT + 1], v[LIGHT + 2]]
+    }
+}
+
+impl<const L: usize> Lighting for PixelLights<L> {
+    #[inline]
+    fn light(&self, v: &[i32; MAX_VARYINGS]) -> [i32; 3] {
+        self.at([v[NORMAL], v[NORMAL + 1], v[NORMAL + 2]], [v[POSITION], v[POSITION + 1], v[POSITION + 2]])
+    }
+}
+
+/// Rasterizes one screen triangle, choosing the monomorphised inner loop once per triangle so
+/// the per-pixel loop never branches on modes.
+fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
-    s: &DrawSetup<'_>,
+    ctx: &Context<'_, L>,
+    flip: bool,
     tri: &[ScreenVertex; 3],
     material: &Material,
     sampler: Option<&Sampler<'_>>,
-    opts: &RenderOptions,
     stats: &mut Stats,
 ) {
-    let setup = match Setup::<5>::new(tri, &s.window, material.cull_back_faces, s.flip) {
+    let setup = match Setup::<MAX_VARYINGS>::new(tri, &ctx.window, material.cull_back_faces, flip) {
         Ok(setup) => setup,
         Err(r) => return count_reject(r, stats),
     };
     stats.drawn += 1;
+    let diffuse = Diffuse([material.rgba[0], material.rgba[1], material.rgba[2]]);
+    let phong = ctx.opts.shading == Shading::Phong;
+    let dither = ctx.opts.dither;
+    let sub = ctx.opts.subspan;
+    match (sampler, phong, dither) {
+        (Some(t), false, false) => fragments::<_, _, _, _, false>(band, &setup, sub, t, &Interpolated, stats),
+        (Some(t), false, true) => fragments::<_, _, _, _, true>(band, &setup, sub, t, &Interpolated, stats),
+        (Some(t), true, false) => fragments::<_, _, _, _, false>(band, &setup, sub, t, &ctx.pixel_lights, stats),
+        (Some(t), true, true) => fragments::<_, _, _, _, true>(band, &setup, sub, t, &ctx.pixel_lights, stats),
+        (None, false, false) => fragments::<_, _, _, _, false>(band, &setup, sub, &diffuse, &Interpolated, stats),
+        (None, false, true) => fragments::<_, _, _, _, true>(band, &setup, sub, &diffuse, &Interpolated, stats),
+        (None, true, false) => fragments::<_, _, _, _, false>(band, &setup, sub, &diffuse, &ctx.pixel_lights, stats),
+        (None, true, true) => fragments::<_, _, _, _, true>(band, &setup, sub, &diffuse, &ctx.pixel_lights, stats),
+    }
+}
+
+/// The per-pixel loop: depth test, base colour (alpha test), light, store.
+#[inline(always)]
+fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool>(
+    band: &mut Band<'_, C, D>,
+    setup: &Setup<MAX_VARYINGS>,
+    subspan: u32,
+    base: &B,
+    lighting: &Lt,
+    stats: &mut Stats,
+) {
     let width = band.width as usize;
     let first_row = band.first_row as i32;
-    let diffuse = [material.rgba[0], material.rgba[1], material.rgba[2]];
     let (color, depth) = (&mut *band.color, &mut band.depth);
-    setup.for_each_pixel(opts.subspan, |x, y, z, v| {
+    setup.for_each_pixel(subspan, |x, y, z, v| {
         let i = (y - first_row) as usize * width + x as usize;
         if !depth.passes(i, z) {
             stats.depth_rejected += 1;
             return;
         }
-        let base = match sampler {
-            Some(sm) => {
-                let t = sm.sample(v[U], v[V]);
-                if t[3] < 128 {
-                    return; // cut-out: neither colour nor depth
-                }
-                [t[0], t[1], t[2]]
-            }
-            None => diffuse,
-        };
-        let rgb = modulate(base, [v[LIGHT], v[LIGHT + 1], v[LIGHT + 2]]);
+        // A cut-out texel writes neither colour nor depth.
+        let Some(rgb) = base.base(v[U], v[V]) else { return };
+        let rgb = modulate(rgb, lighting.light(v));
         if let Some(px) = color.get_mut(i) {
-            *px = C::from_rgb888(rgb);
+            *px = if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) };
             depth.store(i, z);
             stats.pixels_written += 1;
         }

@@ -80,6 +80,103 @@ impl<const N: usize> Lights<N> {
     }
 }
 
+/// Lights prepared for per-pixel (Phong) lighting in integers: vectors and colours in 16.16.
+#[derive(Clone, Debug, Default)]
+pub struct PixelLights<const N: usize> {
+    ambient: [i64; 3],
+    lights: Vec<PixelLight, N>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct PixelLight {
+    kind: LightKind,
+    /// Unit vector towards the light (directional, hemispheric) or position (point), 16.16.
+    vector: [i64; 3],
+    /// `diffuse · intensity`, 16.16.
+    color: [i64; 3],
+}
+
+/// `round(v · 65536)` saturated to what 16.16 varyings can hold.
+fn fixed16(v: f32) -> i64 {
+    (v * 65536.0) as i32 as i64
+}
+
+impl<const N: usize> PixelLights<N> {
+    /// Converts `lights` for per-pixel use.
+    #[must_use]
+    pub fn new(lights: &Lights<N>) -> Self {
+        let mut out = PixelLights { ambient: lights.ambient.to_array().map(fixed16), lights: Vec::new() };
+        for l in &lights.lights {
+            let vector = match l.kind {
+                LightKind::Directional => normalize_or_zero(-l.vector),
+                LightKind::Hemispheric => normalize_or_zero(l.vector),
+                LightKind::Point => l.vector,
+            };
+            let color = (l.diffuse * l.intensity).to_array().map(fixed16);
+            let _ = out.lights.push(PixelLight { kind: l.kind, vector: vector.to_array().map(fixed16), color });
+        }
+        out
+    }
+
+    /// Light (16.16 per channel, clamped to 0..=1) for the interpolated normal `n` (any
+    /// length, 16.16) at world position `p` (16.16): `ambient + Σ max(0, N·L) · colour`.
+    #[must_use]
+    pub fn at(&self, n: [i32; 3], p: [i32; 3]) -> [i32; 3] {
+        let n = n.map(i64::from);
+        let n_len = isqrt(dot(n, n) as u64) as i64;
+        let mut sum = self.ambient;
+        if n_len > 0 {
+            for l in &self.lights {
+                // k in 16.16.
+                let k = match l.kind {
+                    LightKind::Directional => dot(n, l.vector) / n_len,
+                    LightKind::Hemispheric => (1 << 15) + dot(n, l.vector) / n_len / 2,
+                    LightKind::Point => {
+                        let d = [l.vector[0] - p[0] as i64, l.vector[1] - p[1] as i64, l.vector[2] - p[2] as i64];
+                        // Keep d·d within u64: positions are < 2^31, so d < 2^32; shift if needed.
+                        let shift = (64 - d.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0).leading_zeros())
+                            .saturating_sub(30);
+                        let d = d.map(|c| c >> shift);
+                        let d_len = isqrt(dot(d, d) as u64) as i64;
+                        if d_len == 0 {
+                            0
+                        } else {
+                            // (n·d) / (|n| |d|) · 65536, with n·d < 2^17 · 2^31.
+                            dot(n, d) / n_len * 65536 / d_len
+                        }
+                    }
+                }
+                .max(0);
+                for (s, c) in sum.iter_mut().zip(l.color) {
+                    *s += (c * k) >> 16;
+                }
+            }
+        }
+        sum.map(|s| s.clamp(0, 1 << 16) as i32)
+    }
+}
+
+#[inline]
+fn dot(a: [i64; 3], b: [i64; 3]) -> i64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `floor(sqrt(n))` by Newton's method from above, integers only.
+#[must_use]
+pub fn isqrt(n: u64) -> u64 {
+    if n < 2 {
+        return n;
+    }
+    let mut x = 1u64 << (64 - n.leading_zeros()).div_ceil(2);
+    loop {
+        let y = (x + n / x) / 2;
+        if y >= x {
+            return x;
+        }
+        x = y;
+    }
+}
+
 /// Texture filtering.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Filter {
@@ -242,6 +339,30 @@ mod tests {
         // Non-power-of-two widths wrap too.
         let odd = Sampler::new(tex(&data[..12], 3, 1), Wrap::Repeat, Wrap::Repeat, Filter::Nearest);
         assert_eq!(odd.sample(-(1 << 16), 0)[0], 2);
+    }
+
+    #[test]
+    fn isqrt_is_floor_sqrt() {
+        for n in [0u64, 1, 2, 3, 4, 15, 16, 17, 1 << 40, (1 << 40) - 1, u64::MAX] {
+            let r = isqrt(n);
+            assert!(r * r <= n && (r + 1).checked_mul(r + 1).is_none_or(|s| s > n), "{n}");
+        }
+    }
+
+    #[test]
+    fn pixel_lights_match_float_lights() {
+        let mut lights = Lights::<2>::new(Vec3::splat(0.1));
+        lights.push(Lights::<2>::directional(Vec3::new(0.5, -0.5, 1.0), 0.7)).unwrap();
+        lights.push(Lights::<2>::point(Vec3::new(2.0, 3.0, -4.0), 0.5)).unwrap();
+        let px = PixelLights::new(&lights);
+        for (n, p) in [(Vec3::new(0.0, 0.0, -1.0), Vec3::ZERO), (Vec3::new(0.3, 0.8, -0.5), Vec3::new(0.5, 0.2, 0.1))] {
+            let n = normalize_or_zero(n);
+            let want = lights.at(p, n);
+            let got = px.at((n * 50000.0).to_array().map(|c| c as i32), (p * 65536.0).to_array().map(|c| c as i32));
+            for k in 0..3 {
+                assert!((got[k] as f32 / 65536.0 - want[k]).abs() < 1.0 / 512.0, "{got:?} vs {want:?}");
+            }
+        }
     }
 
     #[test]

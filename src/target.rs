@@ -23,6 +23,24 @@ pub trait FrameColor: Copy {
     fn from_rgb888(rgb: [u8; 3]) -> Self;
     /// Converts to 8-bit RGB.
     fn to_rgb888(self) -> [u8; 3];
+    /// Converts with ordered dithering for pixel `(x, y)` of the frame; formats with 8 bits per
+    /// channel ignore the position.
+    #[inline]
+    fn from_rgb888_dithered(rgb: [u8; 3], x: u32, y: u32) -> Self {
+        let _ = (x, y);
+        Self::from_rgb888(rgb)
+    }
+}
+
+/// The 4x4 Bayer matrix: thresholds 0..16.
+const BAYER4: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
+
+/// `v` (0..=255) scaled to `0..=max` with ordered dithering: the threshold `(t + 1/2) / 16`
+/// replaces rounding's 1/2, so over a 4x4 tile the average equals `v · max / 255`.
+#[inline]
+fn narrow_dithered(v: u8, max: u32, x: u32, y: u32) -> u8 {
+    let t = BAYER4[(y & 3) as usize][(x & 3) as usize] as u32;
+    ((v as u32 * max * 32 + (2 * t + 1) * 255) / (255 * 32)).min(max) as u8
 }
 
 /// `v` (0..=255) scaled to `0..=max`, rounded to nearest.
@@ -61,6 +79,14 @@ impl FrameColor for Rgb565 {
         Rgb565::new(narrow(rgb[0], 31), narrow(rgb[1], 63), narrow(rgb[2], 31))
     }
     #[inline]
+    fn from_rgb888_dithered(rgb: [u8; 3], x: u32, y: u32) -> Self {
+        Rgb565::new(
+            narrow_dithered(rgb[0], 31, x, y),
+            narrow_dithered(rgb[1], 63, x, y),
+            narrow_dithered(rgb[2], 31, x, y),
+        )
+    }
+    #[inline]
     fn to_rgb888(self) -> [u8; 3] {
         [widen(self.r(), 31), widen(self.g(), 63), widen(self.b(), 31)]
     }
@@ -69,6 +95,11 @@ impl FrameColor for Rgb565 {
 impl FrameColor for Gray8 {
     #[inline]
     fn from_rgb888(rgb: [u8; 3]) -> Self {
+        Gray8::new(luma(rgb))
+    }
+    #[inline]
+    fn from_rgb888_dithered(rgb: [u8; 3], _: u32, _: u32) -> Self {
+        // Gray8 keeps all 8 bits of luma: nothing to dither.
         Gray8::new(luma(rgb))
     }
     #[inline]
@@ -81,6 +112,10 @@ impl FrameColor for BinaryColor {
     #[inline]
     fn from_rgb888(rgb: [u8; 3]) -> Self {
         BinaryColor::from(luma(rgb) >= 128)
+    }
+    #[inline]
+    fn from_rgb888_dithered(rgb: [u8; 3], x: u32, y: u32) -> Self {
+        BinaryColor::from(narrow_dithered(luma(rgb), 1, x, y) == 1)
     }
     #[inline]
     fn to_rgb888(self) -> [u8; 3] {
@@ -100,14 +135,23 @@ pub struct Rgb565Be(pub [u8; 2]);
 impl FrameColor for Rgb565Be {
     #[inline]
     fn from_rgb888(rgb: [u8; 3]) -> Self {
-        let c = Rgb565::from_rgb888(rgb);
-        let v = (c.r() as u16) << 11 | (c.g() as u16) << 5 | c.b() as u16;
-        Rgb565Be(v.to_be_bytes())
+        Self::from(Rgb565::from_rgb888(rgb))
+    }
+    #[inline]
+    fn from_rgb888_dithered(rgb: [u8; 3], x: u32, y: u32) -> Self {
+        Self::from(Rgb565::from_rgb888_dithered(rgb, x, y))
     }
     #[inline]
     fn to_rgb888(self) -> [u8; 3] {
         let v = u16::from_be_bytes(self.0);
         Rgb565::new((v >> 11) as u8, ((v >> 5) & 63) as u8, (v & 31) as u8).to_rgb888()
+    }
+}
+
+impl From<Rgb565> for Rgb565Be {
+    fn from(c: Rgb565) -> Self {
+        let v = (c.r() as u16) << 11 | (c.g() as u16) << 5 | c.b() as u16;
+        Rgb565Be(v.to_be_bytes())
     }
 }
 
@@ -272,7 +316,7 @@ impl<'a, C: FrameColor, D: DepthBuffer> Band<'a, C, D> {
             return Err(TargetError::BadSize { width, height });
         }
         let len = color.len();
-        if len == 0 || len % width as usize != 0 {
+        if len == 0 || !len.is_multiple_of(width as usize) {
             return Err(TargetError::ColorLength { len, width });
         }
         let rows = len / width as usize;
@@ -342,6 +386,26 @@ mod tests {
         assert!(matches!(Band::new(&mut c[..], NoDepth, 10, 15, 6), Err(TargetError::BandOutsideFrame { .. })));
         assert!(matches!(Band::new(&mut c[..], NoDepth, 0, 15, 0), Err(TargetError::BadSize { .. })));
         assert!(Band::new(&mut c[..], NoDepth, 10, 15, 5).is_ok());
+    }
+
+    #[test]
+    fn dithering_keeps_the_average() {
+        for v in [0u8, 1, 3, 7, 100, 128, 200, 254, 255] {
+            let mut sum565 = 0u32;
+            let mut sum1 = 0u32;
+            for y in 0..4 {
+                for x in 0..4 {
+                    sum565 += Rgb565::from_rgb888_dithered([v, v, v], x, y).to_rgb888()[0] as u32;
+                    sum1 += BinaryColor::from_rgb888_dithered([v, v, v], x, y).to_rgb888()[0] as u32;
+                }
+            }
+            // Averages over a 4x4 tile land within half a quantization step of the input.
+            assert!((sum565 as f32 / 16.0 - v as f32).abs() <= 255.0 / 31.0 / 2.0, "565 {v}: {sum565}");
+            assert!((sum1 as f32 / 16.0 - v as f32).abs() <= 255.0 / 16.0 / 2.0 + 0.5, "mono {v}: {sum1}");
+        }
+        // A mid grey dithers to both neighbouring levels.
+        let levels: [u8; 4] = core::array::from_fn(|x| Rgb565::from_rgb888_dithered([130, 130, 130], x as u32, 0).r());
+        assert!(levels.iter().min() != levels.iter().max());
     }
 
     #[test]

@@ -453,26 +453,39 @@ fn babylonish() -> impl Strategy<Value = serde_json::Value> {
 /// Meshes whose fields are each plausible, in random combinations: reaches the geometry checks.
 fn plausible_mesh() -> impl Strategy<Value = serde_json::Value> {
     use serde_json::json;
-    let nums = |n| prop::collection::vec(-2.0f32..2.0, 0..n);
-    let small = |n| prop::collection::vec(0u32..7, 0..n);
+    // A length that is usually right for `n` vertices of `per` numbers, sometimes one off.
+    let sized = |n: usize, per: usize, skew: usize| {
+        (0..n * per + skew % 3).map(|k| (k % 7) as f32 * 0.3 - 1.).collect::<Vec<_>>()
+    };
     let id = || prop::sample::select(vec![None, Some("a"), Some("b"), Some("c")]);
-    let sub = (0u32..4, 0u32..7, 0u32..10)
-        .prop_map(|(m, s, c)| json!({"materialIndex": m, "indexStart": s, "indexCount": c}));
+    let sub = (0u32..4, 0u32..4, 0u32..4)
+        .prop_map(|(m, s, c)| json!({"materialIndex": m, "indexStart": 3 * s, "indexCount": 3 * c}));
+    let skew = prop_oneof![8 => Just(0usize), 1 => Just(1), 1 => Just(2)];
     (
-        (nums(16), nums(16), nums(12), small(10), prop::collection::vec(sub, 0..3)),
+        (0usize..7, skew, 0usize..3, any::<bool>(), any::<bool>()),
+        (
+            prop::collection::vec([0u32..64, 0u32..64, 0u32..64], 0..5),
+            prop::option::of(prop::collection::vec(sub, 1..3)),
+        ),
         (id(), id(), prop::sample::select(vec![None, Some("m"), Some("mm"), Some("x")])),
-        (nums(10), 0u32..3, any::<bool>(), prop::collection::vec(nums(5), 0..3)),
+        prop::collection::vec(prop::collection::vec(-2.0f32..2.0, 3), 0..3),
     )
-        .prop_map(|((p, n, uv, ix, subs), (id, parent, mat), (verts, uv_count, legacy, inst))| {
+        .prop_map(move |((n, skew, uv_count, legacy, normals), (tris, subs), (id, parent, mat), inst)| {
+            // Indices below `n`, except now and then one equal to it or a triangle cut short.
+            let limit = (n as u32 + u32::from(skew == 1)).max(1);
+            let mut ix: Vec<u32> = tris.as_flattened().iter().map(|x| x % limit).collect();
+            ix.truncate(ix.len().saturating_sub(usize::from(skew == 2 && !legacy)));
             let mut m = json!({"name": "M", "id": id, "parentId": parent, "materialId": mat, "subMeshes": subs,
                 "instances": inst.iter().map(|t| json!({"position": t, "parentId": parent})).collect::<Vec<_>>()});
             if legacy {
-                m["vertices"] = json!(verts);
+                m["vertices"] = json!(sized(n, 6 + 2 * uv_count, skew));
                 m["uvCount"] = json!(uv_count);
             } else {
-                m["positions"] = json!(p);
-                m["normals"] = json!(n);
-                m["uvs"] = json!(uv);
+                m["positions"] = json!(sized(n, 3, skew));
+                m["uvs"] = json!(sized(n, 2, 0));
+                if normals {
+                    m["normals"] = json!(sized(n, 3, 0));
+                }
             }
             if !ix.is_empty() {
                 m["indices"] = json!(ix);

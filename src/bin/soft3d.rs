@@ -95,6 +95,8 @@ enum ModeArg {
     Solid,
     Wire,
     Points,
+    /// Solid with the triangle edges drawn over it.
+    SolidWire,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -102,6 +104,7 @@ enum ShadingArg {
     Unlit,
     Flat,
     Gouraud,
+    Phong,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -159,6 +162,9 @@ struct RenderArgs {
     /// Pixel format rendered into (the PNG shows it widened back to 8 bits).
     #[arg(long, value_enum, default_value_t = PixelFormat::Rgb888)]
     format: PixelFormat,
+    /// Ordered dithering when the pixel format has fewer than 8 bits per channel.
+    #[arg(long)]
+    dither: bool,
     /// Exact perspective correction every N pixels (1 = every pixel).
     #[arg(long, default_value_t = 1)]
     subspan: u32,
@@ -407,11 +413,13 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
             ShadingArg::Unlit => Shading::Unlit,
             ShadingArg::Flat => Shading::Flat,
             ShadingArg::Gouraud => Shading::Gouraud,
+            ShadingArg::Phong => Shading::Phong,
         },
         mode: match args.mode {
             ModeArg::Solid => Mode::Solid,
             ModeArg::Wire => Mode::Wireframe,
             ModeArg::Points => Mode::Points,
+            ModeArg::SolidWire => Mode::SolidWireframe,
         },
         filter: match args.filter {
             FilterArg::Nearest => Filter::Nearest,
@@ -419,6 +427,8 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         },
         subspan: args.subspan.max(1),
         textures: true,
+        dither: args.dither,
+        wire_color: matches!(args.mode, ModeArg::SolidWire).then_some([255, 255, 0]),
     };
     if args.bands == 0 || args.bands > height {
         return Err(format!("--bands: must be 1..={height}"));
@@ -483,7 +493,7 @@ fn cmd_render(args: &RenderArgs) -> Result<()> {
     // Keep 8-bit texels when rendering to RGB888 so the output compares exactly with others.
     if args.format == PixelFormat::Rgb888
         && matches!(conv.texture_format, TexFormat::Auto)
-        && !args.input.extension().is_some_and(|e| e == "s3d")
+        && args.input.extension().is_none_or(|e| e != "s3d")
     {
         conv.texture_format = TexFormat::Rgba8888;
     }

@@ -1,0 +1,171 @@
+//! soft3d on an emulated Cortex-M: renders the reference "Suzanne frame" (240x240 RGB565) in
+//! horizontal bands, writes it to the host through semihosting and prints its statistics as
+//! one JSON line, then exits with status 0 (non-zero on any failure).
+//!
+//! ```text
+//! cd examples/qemu && mkdir -p out && cargo run --release                       # Cortex-M4F, mps2-an386
+//! cd examples/qemu && mkdir -p out && cargo run --release --target thumbv6m-none-eabi  # on mps2-an385 (M3)
+//! ```
+//!
+//! Features: `two-frames` renders the frame twice (per-frame instruction count =
+//! count(2 frames) - count(1 frame)); `one-band` renders one 240x240 band instead of eight
+//! 240x30 ones.
+//!
+//! Buffers: one colour and one depth band live in `.bss`, handed out once as `&'static mut` by
+//! `cortex_m::singleton!`, so they count as static RAM and stay out of the stack figure.
+//!
+//! Stack: cortex-m-rt's `paint-stack` feature fills `_stack_end.._stack_start` (everything
+//! above the statics) with `0xCCCC_CCCC` before `main`; after the frame the lowest word that
+//! no longer holds the pattern gives the high-water mark.
+#![no_std]
+#![no_main]
+
+use core::ffi::CStr;
+
+use cortex_m_rt::entry;
+use embedded_graphics_core::pixelcolor::raw::{RawData, RawU16};
+use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
+use semihosting::fs::File;
+use semihosting::io::Write as _;
+use semihosting::{eprintln, println, process};
+use serde::Serialize;
+use soft3d::math::{Mat4, Vec3};
+use soft3d::{Band, Camera, Lights, Model, RenderOptions, Stats};
+
+/// The reference scene, converted at build time (see build.rs).
+static SUZANNE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
+
+const WIDTH: u16 = 240;
+const HEIGHT: u16 = 240;
+/// Bands per frame.
+const BANDS: usize = if cfg!(feature = "one-band") { 1 } else { 8 };
+const BAND_ROWS: usize = HEIGHT as usize / BANDS;
+const BAND_PIXELS: usize = WIDTH as usize * BAND_ROWS;
+const _: () = assert!(BAND_ROWS * BANDS == HEIGHT as usize, "BANDS must divide HEIGHT");
+/// Frames rendered; the image file and the statistics are those of the last one.
+const FRAMES: u32 = if cfg!(feature = "two-frames") { 2 } else { 1 };
+/// Where the last frame goes, relative to QEMU's working directory: little-endian RGB565,
+/// row-major, no header.
+const FRAME_PATH: &CStr = c"out/qemu-frame.rgb565";
+/// What cortex-m-rt's `paint-stack` writes over the stack before `main`.
+const STACK_PAINT: u32 = 0xCCCC_CCCC;
+
+/// The single line printed on stdout.
+#[derive(Serialize)]
+struct Report {
+    /// Frames rendered (the statistics are the last frame's).
+    frame: u32,
+    width: u16,
+    height: u16,
+    bands: usize,
+    /// Triangles in the model (per frame, not per band).
+    triangles: u32,
+    /// Sum over bands of triangles that reached the rasterizer with pixels in the band (a
+    /// triangle straddling a band boundary counts once per band).
+    drawn: u32,
+    pixels_written: u32,
+    depth_rejected: u32,
+    /// Depth entries not at the far plane after the frame.
+    covered: u32,
+    /// Stack high-water mark of the whole run, in bytes below `_stack_start`.
+    stack_bytes: u32,
+}
+
+#[entry]
+fn main() -> ! {
+    match run() {
+        Ok(()) => process::exit(0),
+        Err(msg) => {
+            eprintln!("soft3d-qemu: {msg}");
+            process::exit(1)
+        }
+    }
+}
+
+fn run() -> Result<(), &'static str> {
+    let color: &'static mut [Rgb565; BAND_PIXELS] =
+        cortex_m::singleton!(COLOR: [Rgb565; BAND_PIXELS] = [Rgb565::BLACK; BAND_PIXELS]).ok_or("colour band taken")?;
+    let depth: &'static mut [u16; BAND_PIXELS] =
+        cortex_m::singleton!(DEPTH: [u16; BAND_PIXELS] = [0; BAND_PIXELS]).ok_or("depth band taken")?;
+
+    let model = Model::parse(SUZANNE).map_err(|_| "suzanne.s3d does not parse")?;
+    let camera = Camera::perspective(Vec3::new(0.0, 0.0, -4.0), Vec3::ZERO, 0.8, 1.0, 0.1, 100.0)
+        .map_err(|_| "bad camera")?;
+    let mut lights = Lights::<1>::new(Vec3::splat(0.2));
+    lights.push(Lights::<1>::directional(Vec3::new(0.5, -0.5, 1.0), 0.8)).map_err(|_| "too many lights")?;
+    let opts = RenderOptions::default();
+    let transform = Mat4::from_rotation_y(0.5);
+
+    let mut stats = Stats::default();
+    let mut covered = 0u32;
+    for frame in 1..=FRAMES {
+        let last = frame == FRAMES;
+        let mut file = if last { Some(File::create(FRAME_PATH).map_err(|_| "cannot create out/qemu-frame.rgb565 (does out/ exist in QEMU's working directory?)")?) } else { None };
+        stats = Stats::default();
+        covered = 0;
+        for b in 0..BANDS {
+            let first_row = (b * BAND_ROWS) as u16;
+            let mut band = Band::new(&mut color[..], &mut depth[..], WIDTH, HEIGHT, first_row)
+                .map_err(|_| "band does not fit the frame")?;
+            band.clear(Rgb565::BLACK);
+            stats += soft3d::draw_model(&mut band, &model, transform, &camera, &lights, &opts);
+            drop(band);
+            covered += depth.iter().filter(|&&d| d != u16::MAX).count() as u32;
+            if let Some(f) = file.as_mut() {
+                write_band(f, &color[..])?;
+            }
+        }
+    }
+
+    let report = Report {
+        frame: FRAMES,
+        width: WIDTH,
+        height: HEIGHT,
+        bands: BANDS,
+        triangles: model.draws().map(|(mesh, _)| mesh.triangle_count()).sum(),
+        drawn: stats.drawn,
+        pixels_written: stats.pixels_written,
+        depth_rejected: stats.depth_rejected,
+        covered,
+        stack_bytes: stack_high_water(),
+    };
+    let mut line = [0u8; 256];
+    let n = serde_json_core::to_slice(&report, &mut line).map_err(|_| "JSON line too long")?;
+    let line = core::str::from_utf8(&line[..n]).map_err(|_| "JSON is not UTF-8")?;
+    println!("{line}");
+    Ok(())
+}
+
+/// Writes a band's pixels as little-endian RGB565, one row per semihosting call.
+fn write_band(f: &mut File, pixels: &[Rgb565]) -> Result<(), &'static str> {
+    let mut row = [0u8; 2 * WIDTH as usize];
+    for px in pixels.chunks(WIDTH as usize) {
+        for (out, &p) in row.chunks_exact_mut(2).zip(px) {
+            out.copy_from_slice(&RawU16::from(p).into_inner().to_le_bytes());
+        }
+        f.write_all(&row[..2 * px.len()]).map_err(|_| "writing the frame file failed")?;
+    }
+    Ok(())
+}
+
+/// Bytes of stack used so far: from `_stack_start` (the top) down to the lowest word that no
+/// longer holds the paint cortex-m-rt put between `_stack_end` and `_stack_start`.
+fn stack_high_water() -> u32 {
+    extern "C" {
+        static _stack_start: u32;
+        static _stack_end: u32;
+    }
+    let top = &raw const _stack_start as usize;
+    let mut p = &raw const _stack_end as usize;
+    while p < top {
+        // SAFETY: `_stack_end.._stack_start` is RAM reserved for the stack by cortex-m-rt's
+        // linker script, 4-byte aligned; it is only read here (volatile, so the compiler
+        // cannot assume its contents), and the words below the stack pointer belong to no
+        // live object.
+        if unsafe { core::ptr::read_volatile(p as *const u32) } != STACK_PAINT {
+            break;
+        }
+        p += 4;
+    }
+    (top - p) as u32
+}
