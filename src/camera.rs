@@ -1,6 +1,6 @@
 //! Cameras: Babylon.js `LookAtLH` view with a `PerspectiveFovLH` or `OrthoLH` projection.
 
-use crate::format::SceneCamera;
+use crate::format::{Model, SceneCamera};
 use crate::math::{look_at_lh, orthographic_lh, perspective_lh, Mat4, Vec3};
 
 /// A camera: view and projection matrices.
@@ -10,8 +10,14 @@ pub struct Camera {
     pub view: Mat4,
     /// View to clip space.
     pub projection: Mat4,
-    /// Eye position in world space (for point lights and specular).
+    /// Eye position in world space.
     pub eye: Vec3,
+    /// The point looked at.
+    pub target: Vec3,
+    /// Near clip distance.
+    pub near: f32,
+    /// Far clip distance.
+    pub far: f32,
 }
 
 /// Why a camera could not be built.
@@ -60,7 +66,7 @@ impl Camera {
             return Err(CameraError::BadProjection);
         }
         let view = look_at(eye, target)?;
-        Ok(Camera { view, projection: perspective_lh(fov_y, aspect, near, far), eye })
+        Ok(Camera { view, projection: perspective_lh(fov_y, aspect, near, far), eye, target, near, far })
     }
 
     /// An orthographic camera showing a `width` x `height` (world units) window.
@@ -85,7 +91,7 @@ impl Camera {
             return Err(CameraError::BadProjection);
         }
         let view = look_at(eye, target)?;
-        Ok(Camera { view, projection: orthographic_lh(width, height, near, far), eye })
+        Ok(Camera { view, projection: orthographic_lh(width, height, near, far), eye, target, near, far })
     }
 
     /// The camera stored in a scene, for a frame of the given aspect ratio.
@@ -94,6 +100,32 @@ impl Camera {
     /// [`CameraError`] when the stored camera is degenerate.
     pub fn from_scene(c: &SceneCamera, aspect: f32) -> Result<Self, CameraError> {
         Self::perspective(c.position, c.target, c.fov, aspect, c.near, c.far)
+    }
+
+    /// A perspective camera that shows every mesh and instance of `model` (by their bounding
+    /// spheres), looking slightly down along +z; for scenes that have no camera of their own.
+    ///
+    /// # Errors
+    /// [`CameraError`] when the model has no finite bounds or the projection values are bad.
+    pub fn framing(model: &Model<'_>, fov_y: f32, aspect: f32) -> Result<Self, CameraError> {
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for (mesh, world) in model.draws() {
+            let (c, r) = mesh.bounding_sphere();
+            let scale =
+                [world.x_axis, world.y_axis, world.z_axis].iter().map(|a| a.truncate().length()).fold(0.0, f32::max);
+            let c = world.transform_point3(c);
+            lo = lo.min(c - Vec3::splat(r * scale));
+            hi = hi.max(c + Vec3::splat(r * scale));
+        }
+        if !lo.is_finite() || !hi.is_finite() {
+            return Err(CameraError::BadLookAt);
+        }
+        let centre = (lo + hi) * 0.5;
+        let radius = ((hi - lo) * 0.5).length().max(1e-3);
+        // Far enough that the bounding sphere fits the vertical field of view.
+        let distance = radius / crate::math::sin(fov_y * 0.5).max(1e-3);
+        let eye = centre + Vec3::new(0.0, 0.3, -1.0).normalize() * distance;
+        Self::perspective(eye, centre, fov_y, aspect, distance * 0.01, distance + radius * 2.0)
     }
 
     /// `projection · view`: world to clip space.

@@ -1117,7 +1117,7 @@ pub struct SceneCamera {
 }
 
 #[cfg(feature = "convert")]
-pub use emit::{emit, EmitError, EmitOptions, TextureChoice};
+pub use emit::{emit, to_scene, EmitError, EmitOptions, TextureChoice};
 
 #[cfg(feature = "convert")]
 mod emit {
@@ -1315,6 +1315,91 @@ mod emit {
         // The writer must only produce what the reader accepts.
         Model::parse(&out.0).map_err(|e| EmitError(std::format!("internal error, emitted file invalid: {e}")))?;
         Ok(out.0)
+    }
+
+    /// Decodes a parsed model back into a [`Scene`]: the inverse of [`emit`] up to
+    /// quantization (a second `emit` of the result gives the same bytes).
+    #[must_use]
+    pub fn to_scene(model: &Model<'_>) -> Scene {
+        let matrix = |m: Mat4| m.to_cols_array();
+        let wrap = |w: Wrap| match w {
+            Wrap::Clamp => scene::Wrap::Clamp,
+            Wrap::Repeat => scene::Wrap::Repeat,
+            Wrap::Mirror => scene::Wrap::Mirror,
+        };
+        let meshes = model
+            .meshes()
+            .map(|m| {
+                let n = m.vertex_count();
+                scene::MeshData {
+                    name: m.name().into(),
+                    world: matrix(m.world()),
+                    positions: (0..n).map(|i| m.position(i).to_array()).collect(),
+                    normals: (0..n).map(|i| m.normal(i).to_array()).collect(),
+                    uvs: m.has_uvs().then(|| (0..n).map(|i| m.uv(i)).collect()),
+                    colors: m.has_colors().then(|| (0..n).map(|i| m.color(i).map(|c| c as f32 / 255.0)).collect()),
+                    indices: (0..3 * m.triangle_count()).map(|k| m.index(k)).collect(),
+                    submeshes: m
+                        .submeshes()
+                        .map(|s| scene::SubMeshData {
+                            material: s.material,
+                            index_start: 3 * s.first_triangle,
+                            index_count: 3 * s.triangle_count,
+                        })
+                        .collect(),
+                }
+            })
+            .collect();
+        let materials = (0..model.material_count() as u16)
+            .filter_map(|i| model.material(i))
+            .map(|m| scene::MaterialData {
+                name: String::new(),
+                diffuse: [0, 1, 2].map(|k| m.rgba[k] as f32 / 255.0),
+                alpha: m.rgba[3] as f32 / 255.0,
+                back_face_culling: m.cull_back_faces,
+                texture: m.texture,
+                wrap_u: wrap(m.wrap_u),
+                wrap_v: wrap(m.wrap_v),
+            })
+            .collect();
+        let textures = (0..model.texture_count() as u16)
+            .filter_map(|i| model.texture(i))
+            .map(|t| scene::TextureData {
+                name: String::new(),
+                width: t.width,
+                height: t.height,
+                // Back to rows from the top of the image.
+                rgba: (0..t.height as u32)
+                    .rev()
+                    .flat_map(|j| (0..t.width as u32).flat_map(move |i| t.rgba(i, j)))
+                    .collect(),
+            })
+            .collect();
+        let instances = (0..model.instance_count())
+            .filter_map(|i| model.instance(i))
+            .map(|(mesh, world)| scene::InstanceData { mesh: mesh as u16, world: matrix(world) })
+            .collect();
+        let lights = model
+            .lights()
+            .map(|l| scene::LightData {
+                kind: match l.kind {
+                    LightKind::Point => scene::LightKind::Point,
+                    LightKind::Directional => scene::LightKind::Directional,
+                    LightKind::Hemispheric => scene::LightKind::Hemispheric,
+                },
+                vector: l.vector.to_array(),
+                diffuse: l.diffuse.to_array(),
+                intensity: l.intensity,
+            })
+            .collect();
+        let camera = model.camera().map(|c| scene::CameraData {
+            position: c.position.to_array(),
+            target: c.target.to_array(),
+            fov: c.fov,
+            near: c.near,
+            far: c.far,
+        });
+        Scene { meshes, materials, textures, instances, lights, camera }
     }
 
     fn emit_mesh(

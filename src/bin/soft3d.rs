@@ -351,25 +351,6 @@ fn parse_rgb(s: &str) -> Result<[u8; 3]> {
     <[u8; 3]>::try_from(v).map_err(|_| format!("--background: expected three values, got {s:?}"))
 }
 
-/// A camera showing every mesh's bounding sphere, looking along +z, when the scene has none.
-fn framing_camera(model: &Model<'_>) -> (Vec3, Vec3) {
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for (mesh, world) in model.draws() {
-        let (c, r) = mesh.bounding_sphere();
-        let scale =
-            [world.x_axis, world.y_axis, world.z_axis].iter().map(|a| a.truncate().length()).fold(0.0f32, f32::max);
-        let c = world.transform_point3(c);
-        lo = lo.min(c - Vec3::splat(r * scale));
-        hi = hi.max(c + Vec3::splat(r * scale));
-    }
-    if !lo.is_finite() || !hi.is_finite() {
-        return (Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO);
-    }
-    let centre = (lo + hi) * 0.5;
-    let radius = ((hi - lo) * 0.5).length().max(1e-3);
-    (centre + Vec3::new(0.0, 0.3, -1.0).normalize() * radius * 2.6, centre)
-}
-
 struct View {
     camera: Camera,
     lights: Lights<8>,
@@ -384,15 +365,16 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     let (width, height) = parse_size(&args.size)?;
     let aspect = width as f32 / height.max(1) as f32;
     let scene_cam = model.camera();
+    let fov = args.fov.or(scene_cam.map(|c| c.fov)).unwrap_or(0.8);
+    let framing = Camera::framing(model, fov, aspect).map_err(|e| e.to_string())?;
     let (default_eye, default_target) = match &scene_cam {
         Some(c) => (c.position, c.target),
-        None => framing_camera(model),
+        None => (framing.eye, framing.target),
     };
     let eye = args.eye.as_deref().map(|s| parse_vec3(s, "--eye")).transpose()?.unwrap_or(default_eye);
     let target = args.target.as_deref().map(|s| parse_vec3(s, "--target")).transpose()?.unwrap_or(default_target);
-    let fov = args.fov.or(scene_cam.map(|c| c.fov)).unwrap_or(0.8);
-    let near = args.near.or(scene_cam.map(|c| c.near)).unwrap_or(0.1);
-    let far = args.far.or(scene_cam.map(|c| c.far)).unwrap_or(1000.0);
+    let near = args.near.or(scene_cam.map(|c| c.near)).unwrap_or(framing.near);
+    let far = args.far.or(scene_cam.map(|c| c.far)).unwrap_or(framing.far);
     let camera = Camera::perspective(eye, target, fov, aspect, near, far).map_err(|e| e.to_string())?;
     let mut lights = Lights::<8>::from_model(model);
     if !args.light.is_empty() {

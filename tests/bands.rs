@@ -1,0 +1,122 @@
+//! Rendering a frame in bands of any height gives exactly the pixels of the whole frame.
+use embedded_graphics_core::pixelcolor::Rgb888;
+use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
+use soft3d::format::{emit, EmitOptions, Model};
+use soft3d::math::Mat4;
+use soft3d::render::{draw_model_sorted, SortEntry};
+use soft3d::{Band, Camera, Lights, Mode, NoDepth, RenderOptions, Shading};
+
+const ASSETS: &[&str] = &[
+    "suzanne/monkey.babylon",
+    "blender-legacy/blender.babylon",
+    "blender-split/blender.babylon",
+    "teapot/teapot.babylon",
+    "tree/tree.babylon",
+    "double-sided/DoubleSidedMaterial.babylon",
+    "instances/Instances.babylon",
+    "opaque/Opaque.babylon",
+    "shapekey/shapekeyAnimation.babylon",
+];
+const W: u16 = 240;
+const H: u16 = 240;
+
+fn model_bytes(rel: &str) -> Vec<u8> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(rel);
+    let origin = if rel.starts_with("suzanne") { UvOrigin::Top } else { UvOrigin::Bottom };
+    let (scene, _) = read_babylon_file(&path, &ConvertOptions { uv_origin: origin, ..Default::default() }).unwrap();
+    emit(&scene, &EmitOptions::default()).unwrap()
+}
+
+fn camera(model: &Model<'_>) -> Camera {
+    let aspect = W as f32 / H as f32;
+    match model.camera() {
+        Some(c) => Camera::from_scene(&c, aspect).unwrap(),
+        None => Camera::framing(model, 0.8, aspect).unwrap(),
+    }
+}
+
+/// Renders the frame in bands of `rows` rows (the last may be shorter): colour and u16 depth.
+fn render(model: &Model<'_>, opts: &RenderOptions, rows: u16) -> (Vec<Rgb888>, Vec<u16>) {
+    let (w, h) = (W as usize, H as usize);
+    let mut color = vec![Rgb888::new(0, 0, 0); w * h];
+    let mut depth = vec![0u16; w * h];
+    let cam = camera(model);
+    let lights = Lights::<4>::from_model(model);
+    let spin = Mat4::from_rotation_y(0.3);
+    for (k, (c, z)) in color.chunks_mut(rows as usize * w).zip(depth.chunks_mut(rows as usize * w)).enumerate() {
+        let mut band = Band::new(c, z, W, H, k as u16 * rows).unwrap();
+        band.clear(Rgb888::new(10, 20, 30));
+        soft3d::draw_model(&mut band, model, spin, &cam, &lights, opts);
+    }
+    (color, depth)
+}
+
+#[test]
+fn bands_equal_the_whole_frame_for_every_asset() {
+    for rel in ASSETS {
+        let bytes = model_bytes(rel);
+        let model = Model::parse(&bytes).unwrap();
+        let opts = RenderOptions::default();
+        let whole = render(&model, &opts, H);
+        let drawn = whole.1.iter().filter(|&&d| d != u16::MAX).count();
+        assert!(drawn > 100, "{rel}: only {drawn} pixels drawn: the test would prove nothing");
+        for rows in [1, 7, 16] {
+            assert!(render(&model, &opts, rows) == whole, "{rel}: bands of {rows} rows differ");
+        }
+    }
+}
+
+#[test]
+fn bands_equal_the_whole_frame_in_every_mode() {
+    let bytes = model_bytes("suzanne/monkey.babylon");
+    let model = Model::parse(&bytes).unwrap();
+    for shading in [Shading::Unlit, Shading::Flat, Shading::Gouraud, Shading::Phong] {
+        for mode in [Mode::Solid, Mode::Wireframe, Mode::Points, Mode::SolidWireframe] {
+            for subspan in [1, 8] {
+                let opts = RenderOptions { shading, mode, subspan, dither: true, ..Default::default() };
+                let whole = render(&model, &opts, H);
+                for rows in [1, 7, 16] {
+                    assert!(render(&model, &opts, rows) == whole, "{shading:?} {mode:?} {subspan}: bands of {rows}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn painters_mode_bands_match_and_cover_like_the_depth_buffer() {
+    let bytes = model_bytes("suzanne/monkey.babylon");
+    let model = Model::parse(&bytes).unwrap();
+    let cam = camera(&model);
+    let lights = Lights::<4>::from_model(&model);
+    let opts = RenderOptions::default();
+    let mut scratch = vec![SortEntry::default(); 966];
+    let paint = |rows: u16, scratch: &mut [SortEntry]| {
+        let mut color = vec![Rgb888::new(0, 0, 0); W as usize * H as usize];
+        for (k, c) in color.chunks_mut(rows as usize * W as usize).enumerate() {
+            let mut band = Band::new(c, NoDepth, W, H, k as u16 * rows).unwrap();
+            band.clear(Rgb888::new(10, 20, 30));
+            draw_model_sorted(&mut band, &model, Mat4::IDENTITY, &cam, &lights, &opts, scratch).unwrap();
+        }
+        color
+    };
+    let whole = paint(H, &mut scratch);
+    assert!(paint(16, &mut scratch) == whole);
+    // Same silhouette as the z-buffered frame, and most pixels agree (painter's errors are local).
+    let mut zcolor = vec![Rgb888::new(0, 0, 0); W as usize * H as usize];
+    let mut depth = vec![0u16; W as usize * H as usize];
+    let mut band = Band::new(&mut zcolor[..], &mut depth[..], W, H, 0).unwrap();
+    band.clear(Rgb888::new(10, 20, 30));
+    soft3d::draw_model(&mut band, &model, Mat4::IDENTITY, &cam, &lights, &opts);
+    let bg = Rgb888::new(10, 20, 30);
+    let silhouette = whole.iter().zip(&zcolor).filter(|(a, b)| (**a == bg) != (**b == bg)).count();
+    let same = whole.iter().zip(&zcolor).filter(|(a, b)| a == b && **a != bg).count();
+    let covered = zcolor.iter().filter(|c| **c != bg).count();
+    assert_eq!(silhouette, 0);
+    assert!(same * 100 >= covered * 95, "{same} of {covered} agree");
+    // Too small a scratch slice is an error, not a partial frame.
+    let mut small = vec![SortEntry::default(); 10];
+    let mut color = vec![Rgb888::new(0, 0, 0); W as usize * H as usize];
+    let mut band = Band::new(&mut color[..], NoDepth, W, H, 0).unwrap();
+    assert!(draw_model_sorted(&mut band, &model, Mat4::IDENTITY, &cam, &lights, &opts, &mut small).is_err());
+}
