@@ -38,6 +38,7 @@ pub mod clip;
 pub mod format;
 pub mod math;
 pub mod raster;
+pub mod reference;
 pub mod render;
 pub mod shade;
 pub mod target;

@@ -23,6 +23,7 @@ use soft3d::target::{Band, NoDepth, TargetError, GUARD_HALF_EXTENT};
 
 use embedded_graphics_core::pixelcolor::{BinaryColor, Gray8, GrayColor, Rgb565};
 use proptest::prelude::*;
+use proptest::test_runner::{RngSeed, TestCaseError};
 
 // ---------------------------------------------------------------------------------------------
 // Deterministic randomness
@@ -465,11 +466,13 @@ fn coverage_ties_on_pixel_centres() {
 
 #[test]
 fn culling_follows_the_spec() {
-    // Clockwise in the picture (y down) = counter-clockwise with y up = front.
-    let cw_picture = [pt(8, 8), pt(16 * 10 + 8, 8), pt(8, 16 * 6 + 8)];
-    assert!(orient(cw_picture[0], cw_picture[1], cw_picture[2]) > 0);
+    // Spec: front faces appear counter-clockwise with y up, i.e. counter-clockwise as seen in
+    // the picture. Top-left, bottom-left, top-right goes round anticlockwise on screen; its
+    // signed area in image coordinates (y down) is negative.
+    let ccw_picture = [pt(8, 8), pt(8, 16 * 6 + 8), pt(16 * 10 + 8, 8)];
+    assert!(orient(ccw_picture[0], ccw_picture[1], ccw_picture[2]) < 0);
     let win = full_window(16, 8);
-    let front = svs(&cw_picture);
+    let front = svs(&ccw_picture);
     let back = [front[0], front[2], front[1]];
     assert!(Setup::<0>::new(&front, &win, true, false).is_ok());
     assert!(matches!(Setup::<0>::new(&back, &win, true, false), Err(Reject::BackFace)));
@@ -622,8 +625,8 @@ fn exact_varying(tri: &[ScreenVertex; 3], x: i32, y: i32, k: usize) -> f64 {
     let sub = |a: (f64, f64), b: (f64, f64)| (b.0 - a.0) * (cy - a.1) - (b.1 - a.1) * (cx - a.0);
     let l = [sub(p[1], p[2]) / area, sub(p[2], p[0]) / area, sub(p[0], p[1]) / area];
     // Perspective: weights λ_i / w_i, renormalised.
-    let q: Vec<f64> = (0..3).map(|i| l[i] * tri[i].inv_w as f64).collect();
-    let s: f64 = q.iter().sum();
+    let q: [f64; 3] = core::array::from_fn(|i| l[i] * tri[i].inv_w as f64);
+    let s = q[0] + q[1] + q[2];
     (0..3).map(|i| q[i] / s * tri[i].varyings[k] as f64).sum()
 }
 
@@ -632,11 +635,22 @@ fn varyings_are_perspective_correct() {
     let mut rng = Rng::new(0x5EED_0005);
     let f = Frame { w: 200, h: 150 };
     let win = full_window(f.w, f.h);
-    let mut worst = [0.0f64; 5];
     let subspans = [1u32, 2, 4, 8, 16];
+    // Per subspan, the worst error as a fraction of the varying's range over the triangle:
+    // - `vs_ideal`: against exact values at the sample pixels (every `subspan` pixels from the
+    //   span's first pixel, and its last) linearly interpolated in between, i.e. what subspan
+    //   stepping promises; must stay tiny;
+    // - `vs_exact_*`: against true perspective-correct values at every pixel. With subspan 1
+    //   that is the precision of the integer barycentrics; above 1 it is dominated by the
+    //   perspective curvature across a subspan, large where 1/w varies a lot per pixel (w
+    //   ratios up to 20 on small triangles), small for mild perspective.
+    let mut vs_ideal = [0.0f64; 5];
+    let mut vs_exact_strong = [0.0f64; 5];
+    let mut vs_exact_mild = [0.0f64; 5];
     let mut pixels = 0usize;
-    for case in 0..300 {
-        // Medium and large triangles, w ratios up to 1:20 (a floor seen at a grazing angle).
+    for case in 0..240 {
+        let strong = case % 2 == 0;
+        // Medium and large triangles.
         let t = loop {
             let t = if case % 3 == 0 {
                 let (gx0, gx1, gy0, gy1) = f.guard();
@@ -645,12 +659,23 @@ fn varyings_are_perspective_correct() {
                 let c = f.near_point(&mut rng, 0);
                 [0; 3].map(|_| pt(c.x + rng.range(-16 * 150, 16 * 150), c.y + rng.range(-16 * 150, 16 * 150)))
             };
-            if orient(t[0], t[1], t[2]).abs() > 16 * 16 * 50 {
-                break t.map(|p| f.clamp(p));
+            let t = t.map(|p| f.clamp(p));
+            // Mild cases are also well shaped: every altitude at least 16 pixels.
+            let longest = (0..3)
+                .map(|i| {
+                    let (a, b) = (t[i], t[(i + 1) % 3]);
+                    (((b.x - a.x).pow(2) + (b.y - a.y).pow(2)) as f64).sqrt()
+                })
+                .fold(0.0, f64::max);
+            let area = orient(t[0], t[1], t[2]).abs();
+            if area > 16 * 16 * 50 && (strong || area as f64 / longest >= 16.0 * 16.0) {
+                break t;
             }
         };
         let mut tri = svs(&t);
-        let w = [1.0, 1.0 + rng.unit() * 19.0, 1.0 + rng.unit() * 19.0];
+        // w ratios up to 1:20 (a floor seen at a grazing angle), or up to 1:1.5.
+        let spread = if strong { 19.0 } else { 0.5 };
+        let w = [1.0, 1.0 + rng.unit() * spread, 1.0 + rng.unit() * spread];
         for (k, v) in tri.iter_mut().enumerate() {
             v.inv_w = (1.0 / w[k]) as f32;
             v.z = rng.unit() as f32;
@@ -659,37 +684,75 @@ fn varyings_are_perspective_correct() {
             v.varyings[1] = rng.range(0, 1 << VARYING_FRAC) as i32;
             v.varyings[2] = rng.range(-(1 << 27), 1 << 27) as i32;
         }
+        let ranges: [f64; 3] = core::array::from_fn(|k| {
+            let vals = tri.map(|p| p.varyings[k] as f64);
+            vals.iter().cloned().fold(f64::MIN, f64::max) - vals.iter().cloned().fold(f64::MAX, f64::min)
+        });
+        let Ok(s) = Setup::<3>::new(&tri, &win, false, false) else { continue };
         for (si, &subspan) in subspans.iter().enumerate() {
-            let Ok(s) = Setup::<3>::new(&tri, &win, false, false) else { continue };
-            s.for_each_pixel(subspan, |x, y, _, v| {
-                for k in 0..3 {
-                    let vals = tri.map(|p| p.varyings[k] as f64);
-                    let range =
-                        vals.iter().cloned().fold(f64::MIN, f64::max) - vals.iter().cloned().fold(f64::MAX, f64::min);
-                    if range < 256.0 {
-                        continue;
+            let frags: Vec<Frag<3>> = {
+                let mut v = Vec::new();
+                s.for_each_pixel(subspan, |x, y, z, a| v.push((x, y, z, *a)));
+                v
+            };
+            // Spans: runs of consecutive pixels on a row.
+            let mut i = 0;
+            while i < frags.len() {
+                let (lo, y) = (frags[i].0, frags[i].1);
+                let mut j = i;
+                while j + 1 < frags.len() && frags[j + 1].1 == y && frags[j + 1].0 == frags[j].0 + 1 {
+                    j += 1;
+                }
+                let hi = frags[j].0;
+                for frag in &frags[i..=j] {
+                    let x = frag.0;
+                    let xs = lo + (x - lo) / subspan as i32 * subspan as i32;
+                    let xe = (xs + subspan as i32).min(hi);
+                    for k in (0..3).filter(|&k| ranges[k] >= 256.0) {
+                        let exact = exact_varying(&tri, x, y, k);
+                        let ideal = if xe == xs {
+                            exact
+                        } else {
+                            let (a, b) = (exact_varying(&tri, xs, y, k), exact_varying(&tri, xe, y, k));
+                            a + (b - a) * (x - xs) as f64 / (xe - xs) as f64
+                        };
+                        let got = frag.3[k] as f64;
+                        // Stepping truncates the step: up to one unit per pixel of the subspan.
+                        let e_ideal = ((got - ideal).abs() - subspan as f64).max(0.0) / ranges[k];
+                        vs_ideal[si] = vs_ideal[si].max(e_ideal);
+                        let e = (got - exact).abs() / ranges[k];
+                        let worst = if strong { &mut vs_exact_strong[si] } else { &mut vs_exact_mild[si] };
+                        *worst = worst.max(e);
                     }
-                    let err = (v[k] as f64 - exact_varying(&tri, x, y, k)).abs() / range;
-                    worst[si] = worst[si].max(err);
                 }
-                if subspan == 1 {
-                    pixels += 1;
-                }
-            });
+                i = j + 1;
+            }
+            pixels += frags.len();
         }
     }
     for (si, &subspan) in subspans.iter().enumerate() {
         println!(
-            "perspective varyings: subspan {subspan:2}: max error {:.6} of the range (1/{:.0})",
-            worst[si],
-            1.0 / worst[si]
+            "perspective varyings: subspan {subspan:2}: max error vs exact {:.6} (1/{:.0}) with w ratio <= 1.5, \
+             {:.6} (1/{:.0}) with w ratio <= 20; vs ideal stepping {:.6} (1/{:.0})",
+            vs_exact_mild[si],
+            1.0 / vs_exact_mild[si],
+            vs_exact_strong[si],
+            1.0 / vs_exact_strong[si],
+            vs_ideal[si],
+            1.0 / vs_ideal[si],
         );
     }
-    println!("perspective varyings: {pixels} pixels per subspan");
-    assert!(worst[0] <= 1.0 / 256.0, "subspan 1: error {} > 1/256", worst[0]);
-    assert!(worst[1] <= 1.0 / 64.0, "subspan 2: error {}", worst[1]);
-    assert!(worst[3] <= 1.0 / 8.0, "subspan 8: error {}", worst[3]);
-    assert!(worst[4] <= 1.0 / 4.0, "subspan 16: error {}", worst[4]);
+    println!("perspective varyings: {pixels} fragments checked");
+    // Exact every pixel: within 1/256 of the range (measured about 1/1000).
+    assert!(vs_exact_strong[0].max(vs_exact_mild[0]) <= 1.0 / 256.0, "subspan 1: {vs_exact_strong:?}");
+    // Stepping does what it promises, for every subspan.
+    for (si, e) in vs_ideal.iter().enumerate() {
+        assert!(*e <= 1.0 / 256.0, "subspan {}: {e} from ideal linear stepping", subspans[si]);
+    }
+    // Mild perspective on well-shaped triangles: bounded error.
+    for (si, bound) in [(1, 1.0 / 64.0), (2, 1.0 / 32.0), (3, 1.0 / 16.0), (4, 1.0 / 8.0)] {
+        assert!(vs_exact_mild[si] <= bound, "subspan {}: error {} > {bound}", subspans[si], vs_exact_mild[si]);
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -747,36 +810,58 @@ fn clip_and_raster(
     out
 }
 
+/// Deterministic proptest settings: a fixed seed and no failure files.
+fn config(cases: u32, seed: u64) -> ProptestConfig {
+    ProptestConfig { cases, rng_seed: RngSeed::Fixed(seed), failure_persistence: None, ..ProptestConfig::default() }
+}
+
+/// Hostile numbers of moderate magnitude: NaN, infinities, signed zeros, tiny values and
+/// everyday ranges. (Large finite magnitudes are in [`extreme_f32`]: they hit a known bug.)
 fn special_f32() -> impl Strategy<Value = f32> {
     prop_oneof![
         3 => -3.0f32..3.0,
         2 => -2000.0f32..2000.0,
-        1 => any::<f32>(),
         1 => prop::sample::select(vec![
             f32::NAN,
             f32::INFINITY,
             f32::NEG_INFINITY,
-            1e30,
-            -1e30,
             0.0,
             -0.0,
             1e-30,
             -1e-30,
             f32::MIN_POSITIVE,
-            f32::MAX,
-            f32::MIN,
             1.0,
             -1.0,
+            0.5,
         ]),
     ]
 }
 
-/// A positive w that keeps 1/w finite (>= f32::MIN_POSITIVE), or any special value.
-fn clip_vertex(w_strategy: BoxedStrategy<f32>) -> impl Strategy<Value = ClipVertex> {
-    (special_f32(), special_f32(), special_f32(), w_strategy, special_f32()).prop_map(|(x, y, z, w, a)| ClipVertex {
+/// Anything, including huge finite values.
+fn extreme_f32() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        2 => special_f32(),
+        1 => any::<f32>(),
+        1 => prop::sample::select(vec![1e30, -1e30, 1e15, -1e15, 1e9, -1e9, f32::MAX, f32::MIN]),
+    ]
+}
+
+/// A clip-space vertex with coordinates from `coord` and `w` from `w`.
+fn clip_vertex(coord: BoxedStrategy<f32>, w: BoxedStrategy<f32>) -> impl Strategy<Value = ClipVertex> {
+    (coord.clone(), coord.clone(), coord.clone(), w, coord).prop_map(|(x, y, z, w, a)| ClipVertex {
         pos: Vec4::new(x, y, z, w),
         varyings: [a, -a, a * 0.5, 1.0, 0.0, a, 3.0, -7.0],
     })
+}
+
+/// Raw triangles: one vertex with any w (including 0, negative, NaN), one with w in an
+/// everyday range and one in front of the eye.
+fn raw_triangle(coord: fn() -> BoxedStrategy<f32>) -> impl Strategy<Value = [ClipVertex; 3]> {
+    [
+        clip_vertex(coord(), coord()).boxed(),
+        clip_vertex(coord(), prop_oneof![coord(), 1e-3f32..10.0].boxed()).boxed(),
+        clip_vertex(coord(), (0.01f32..100.0).boxed()).boxed(),
+    ]
 }
 
 fn band_geometry() -> impl Strategy<Value = (i32, i32, i32, i32)> {
@@ -785,31 +870,61 @@ fn band_geometry() -> impl Strategy<Value = (i32, i32, i32, i32)> {
         .prop_flat_map(|(w, h, s)| (Just(w), Just(h), Just(s), (s + 1)..=h))
 }
 
-proptest! {
-    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+fn check_raw(
+    tri: &[ClipVertex; 3],
+    (width, height, row_start, row_end): (i32, i32, i32, i32),
+    subspan: u32,
+    cull: bool,
+) -> Result<(), TestCaseError> {
+    let win = Window { width, row_start, row_end };
+    for (x, y) in clip_and_raster(tri, width, height, &win, subspan, cull) {
+        prop_assert!(x >= 0 && x < width && y >= row_start && y < row_end, "({}, {}) outside {:?}", x, y, win);
+    }
+    Ok(())
+}
 
-    /// Raw clip-space triangles (with w restricted to values whose reciprocal is finite, see
-    /// `tiny_w_inside_the_guard_band_overflows_setup` for the rest) never panic and never
-    /// visit a pixel outside the window.
+proptest! {
+    #![proptest_config(config(3000, 0x5EED_0006))]
+
+    /// Raw clip-space triangles with NaN, infinities, zeros, tiny and everyday values, clipped,
+    /// projected and rasterized like the pipeline, never panic and never visit a pixel outside
+    /// the window.
     #[test]
     fn raw_clip_space_never_panics(
-        tri in [clip_vertex(prop_oneof![special_f32(), 1e-3f32..10.0].prop_map(|w| if w.is_finite() && w.abs() < f32::MIN_POSITIVE * 4.0 { 0.0 } else { w }).boxed()), clip_vertex(special_f32().boxed()), clip_vertex((0.01f32..100.0).boxed())],
-        (width, height, row_start, row_end) in band_geometry(),
+        tri in raw_triangle(|| special_f32().boxed()),
+        geometry in band_geometry(),
         subspan in 0u32..20,
         cull in any::<bool>(),
     ) {
-        let win = Window { width, row_start, row_end };
-        for (x, y) in clip_and_raster(&tri, width, height, &win, subspan, cull) {
-            prop_assert!(x >= 0 && x < width && y >= row_start && y < row_end, "({x}, {y}) outside {win:?}");
-        }
+        check_raw(&tri, geometry, subspan, cull)?;
     }
+}
 
-    /// `Band::new` accepts exactly the consistent slices.
+proptest! {
+    #![proptest_config(config(3000, 0x5EED_0007))]
+
+    /// The same with huge finite values too. Fails: see `clip_output_escapes_the_guard_band`.
+    #[test]
+    #[ignore = "bug: f32 clipping of triangles with huge coordinates yields vertices outside the guard band; Setup::new overflows i32"]
+    fn raw_clip_space_with_huge_values_never_panics(
+        tri in raw_triangle(|| extreme_f32().boxed()),
+        geometry in band_geometry(),
+        subspan in 0u32..20,
+        cull in any::<bool>(),
+    ) {
+        check_raw(&tri, geometry, subspan, cull)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(config(2000, 0x5EED_0008))]
+
+    /// `Band::new` accepts exactly the consistent slices, and says why it rejects the others.
     #[test]
     fn band_new_checks_lengths(
         len in 0usize..400,
         dlen in prop_oneof![Just(None), (0usize..400).prop_map(Some)],
-        width in 0u16..40,
+        width in prop_oneof![0u16..40, Just(1536u16), Just(1537u16)],
         height in prop_oneof![0u16..40, Just(1536u16), Just(1537u16), Just(u16::MAX)],
         first_row in prop_oneof![0u16..40, Just(u16::MAX)],
         same_depth in any::<bool>(),
@@ -845,6 +960,31 @@ proptest! {
             prop_assert_eq!(kind, expected_kind);
         }
     }
+}
+
+/// Library bug (see the report): clipping in f32 a triangle whose plane distances differ by
+/// more than 2^24 (a vertex on the eye plane, another 3·10^7 units ahead) makes
+/// `t = d_in / (d_in - d_out)` round to exactly 1, so the "cut" point is the outside vertex
+/// itself (w = 0 here); it projects to x = ±inf -> `i32::MAX`, and `Setup::new` overflows.
+/// The minimal clip-level case found by proptest is similar (w = 0 and w = 2.3e15).
+#[test]
+#[ignore = "bug: clip output with w = 0 / outside the guard band makes Setup::new overflow i32"]
+fn clip_output_escapes_the_guard_band() {
+    let v = |x: f32, y: f32, z: f32, w: f32| ClipVertex { pos: Vec4::new(x, y, z, w), varyings: [0.0; MAX_VARYINGS] };
+    // Perspective clip coordinates (fov 0.8, aspect 4/3, near 0.1, far 1000) of the view-space
+    // points (1, 0, 0), (-1, 0, 0) and (0.5, 0, 3e7).
+    let t = 1.0 / (0.4f32).tan();
+    let (a, b) = (1000.1 / 999.9, -2.0 * 1000.0 * 0.1 / 999.9);
+    let clip = |x: f32, y: f32, z: f32| v(x * t * 0.75, y * t, z * a + b, z);
+    let tri = [clip(1.0, 0.0, 0.0), clip(-1.0, 0.0, 0.0), clip(0.5, 0.0, 3e7)];
+    let mut poly = Polygon::new();
+    let res = clip_triangle(&tri, &Planes { gx: 30.0, gy: 40.0 }, &mut poly);
+    if res == ClipResult::Clipped {
+        for p in &poly {
+            assert!(p.pos.w > 0.0, "clipped vertex on or behind the eye plane: {:?}", p.pos);
+        }
+    }
+    let _ = clip_and_raster(&tri, 64, 48, &full_window(64, 48), 1, false);
 }
 
 /// Library bug (see the report): a clip-space vertex whose `w` is so small that `1/w`
@@ -1023,7 +1163,7 @@ mod pipeline {
     }
 
     fn unlit() -> RenderOptions {
-        RenderOptions { shading: Shading::Unlit, textures: false, ..RenderOptions::default() }
+        RenderOptions { shading: Shading::Unlit, textures: false, dither: false, ..RenderOptions::default() }
     }
 
     /// Renders a whole frame into Gray8 (background 0) with a u16 depth buffer.
@@ -1037,7 +1177,11 @@ mod pipeline {
     }
 
     fn perspective(eye: [f32; 3], target: [f32; 3], aspect: f32, near: f32) -> Camera {
-        Camera::perspective(Vec3::from(eye), Vec3::from(target), 0.8, aspect, near, 1000.0).unwrap()
+        perspective_fov(eye, target, 0.8, aspect, near)
+    }
+
+    fn perspective_fov(eye: [f32; 3], target: [f32; 3], fov: f32, aspect: f32, near: f32) -> Camera {
+        Camera::perspective(Vec3::from(eye), Vec3::from(target), fov, aspect, near, 1000.0).unwrap()
     }
 
     // ----- 5. Near plane ---------------------------------------------------------------------
@@ -1088,10 +1232,35 @@ mod pipeline {
         }
     }
 
+    /// View depth at which the ray through image point (px, py) (pixels) leaves the box
+    /// [-1, 1]^3 from `eye` inside it (Babylon's LookAtLH and PerspectiveFovLH, in f64).
+    fn box_exit_depth(eye: [f64; 3], target: [f64; 3], fov: f64, (w, h): (f64, f64), (px, py): (f64, f64)) -> f64 {
+        let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        let cross = |a: [f64; 3], b: [f64; 3]| {
+            [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+        };
+        let norm = |a: [f64; 3]| {
+            let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            [a[0] / l, a[1] / l, a[2] / l]
+        };
+        let z = norm(sub(target, eye));
+        let x = norm(cross([0.0, 1.0, 0.0], z));
+        let y = cross(z, x);
+        let t = (fov / 2.0).tan();
+        let (xn, yn) = (px / w * 2.0 - 1.0, 1.0 - py / h * 2.0);
+        let (a, b) = (xn * t * w / h, yn * t);
+        // Direction whose view-space z is 1: the ray parameter is the view depth.
+        let d: [f64; 3] = core::array::from_fn(|i| x[i] * a + y[i] * b + z[i]);
+        (0..3).filter(|&i| d[i] != 0.0).map(|i| (d[i].signum() - eye[i]) / d[i]).fold(f64::INFINITY, f64::min)
+    }
+
     #[test]
-    fn camera_inside_a_box_sees_walls_everywhere() {
-        // Six inward faces around the eye, culling off: every pixel must be drawn, including
-        // along the walls' shared edges where clipping cut both neighbours.
+    fn camera_inside_a_box_sees_walls_up_to_the_near_plane() {
+        // Six faces around the eye, culling off. Each pixel's ray leaves the box through
+        // exactly one wall; the pixel is drawn, exactly once, iff that exit point is at least
+        // `near` in front of the eye. Along the walls' shared edges (cut by the near plane in
+        // both neighbours) nothing may be missing or doubled. Only pixels for which points
+        // 1/8 pixel around the centre disagree about the near plane are not checked.
         let (w, h) = (80u16, 60u16);
         let c = |x: f32, y: f32, z: f32| [x, y, z];
         let faces = [
@@ -1105,27 +1274,54 @@ mod pipeline {
         let tris: Vec<[[f32; 3]; 3]> = faces.iter().flatten().copied().collect();
         let data = build(vec![mesh("box", &tris, Some(0))], vec![white(false)]);
         let model = Model::parse(&data).unwrap();
+        // (eye, target, field of view, whether the near plane must cut something away)
         let views = [
-            ([0.1, 0.2, -0.05], [1.0, 0.7, 0.8]),
-            ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
-            ([0.9, -0.9, 0.9], [-1.0, 1.0, -0.5]),
-            ([-0.3, 0.5, 0.2], [1.0, -1.0, 1.0]),
+            ([0.1, 0.2, -0.05], [1.0, 0.7, 0.8], 0.8, false),
+            ([0.1, 0.2, -0.05], [1.0, 0.7, 0.8], 2.4, false),
+            ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 2.0, false),
+            ([0.9, -0.9, 0.9], [-1.0, 1.0, -0.5], 1.5, true),
+            ([-0.3, 0.5, 0.2], [1.0, -1.0, 1.0], 2.8, false),
+            // Right next to a wall, looking along it.
+            ([0.97, 0.1, -0.5], [0.97, 0.0, 1.0], 1.6, true),
+            ([-0.5, -0.98, 0.0], [0.5, -0.9, 0.3], 2.0, true),
+            // In a corner, looking out of it diagonally.
+            ([0.96, 0.96, 0.96], [-1.0, -0.8, -1.0], 2.6, true),
         ];
-        for (eye, target) in views {
-            for near in [0.05, 0.5] {
-                let cam = perspective(eye, target, w as f32 / h as f32, near);
+        let (mut clipped, mut cut_away, mut unchecked) = (0, 0, 0);
+        for (eye, target, fov, crosses) in views {
+            for near in [0.05f32, 0.2] {
+                let cam = perspective_fov(eye, target, fov, w as f32 / h as f32, near);
                 let (img, stats) = render(&model, &cam, w, h, &unlit());
-                let holes: Vec<(usize, usize)> =
-                    (0..img.len()).filter(|&i| img[i] != 255).map(|i| (i % w as usize, i / w as usize)).collect();
-                assert!(
-                    holes.is_empty(),
-                    "eye {eye:?} near {near}: {} holes, first {:?}; {stats:?}",
-                    holes.len(),
-                    &holes[..holes.len().min(8)]
-                );
-                assert!(stats.clipped > 0, "{stats:?}");
+                let (e64, t64) = (eye.map(f64::from), target.map(f64::from));
+                let mut missing = 0;
+                for (i, &l) in img.iter().enumerate() {
+                    let (px, py) = ((i % w as usize) as f64 + 0.5, (i / w as usize) as f64 + 0.5);
+                    let seen = |dx: f64, dy: f64| {
+                        box_exit_depth(e64, t64, fov as f64, (w as f64, h as f64), (px + dx, py + dy)) >= near as f64
+                    };
+                    let want = seen(0.0, 0.0);
+                    let e = 0.125;
+                    if [(e, 0.0), (-e, 0.0), (0.0, e), (0.0, -e)].iter().any(|&(dx, dy)| seen(dx, dy) != want) {
+                        unchecked += 1;
+                        continue;
+                    }
+                    assert_eq!(l == 255, want, "eye {eye:?} fov {fov} near {near}: pixel ({px}, {py}); {stats:?}");
+                    missing += usize::from(!want);
+                }
+                let drawn = img.iter().filter(|&&l| l == 255).count();
+                assert_eq!(stats.pixels_written as usize, drawn, "a pixel drawn twice: {stats:?}");
+                if crosses {
+                    assert!(stats.clipped > 0, "eye {eye:?}: expected near-plane clipping: {stats:?}");
+                }
+                clipped += stats.clipped;
+                cut_away += missing;
             }
         }
+        println!(
+            "box: {clipped} clipped triangles, {cut_away} pixels correctly cut away by the near plane, \
+             {unchecked} pixels within 1/8 px of the near-plane cut not checked"
+        );
+        assert!(cut_away > 1000 && unchecked < cut_away / 4);
     }
 
     /// Sutherland–Hodgman in f64 against the same six planes as the pipeline; each output
@@ -1176,7 +1372,7 @@ mod pipeline {
         let cases: [[[f32; 3]; 3]; 4] = [
             [[-1.0, -0.5, 3.0], [1.5, -0.3, 4.0], [0.2, 0.4, -2.0]],
             [[-2.0, 1.0, 6.0], [0.25, -2.0, -1.0], [2.0, 0.75, 5.0]],
-            [[0.0, -1.0, 0.5], [-3.0, -1.0, 10.0], [3.0, -1.0, 10.0]],
+            [[0.0, -1.0, -0.5], [-3.0, -1.0, 10.0], [3.0, -1.0, 10.0]],
             [[-0.5, -0.5, -0.5], [1.0, 0.5, 2.0], [-1.0, 0.25, 8.0]],
         ];
         for (case, tri) in cases.iter().enumerate() {
@@ -1258,12 +1454,12 @@ mod pipeline {
         special_f32().prop_filter("emit needs finite positions", |v| v.is_finite())
     }
 
-    fn pipeline_case() -> impl Strategy<Value = (Vec<[f32; 3]>, [f32; 4], (i32, i32, i32, i32), u8, u32, usize)> {
+    fn pipeline_case() -> impl Strategy<Value = (Vec<[f32; 3]>, [f32; 4], (i32, i32, i32, i32), u16, u32, usize)> {
         (
             prop::collection::vec([finite_f32(), finite_f32(), finite_f32()], 3..=12),
             [finite_f32(), finite_f32(), finite_f32(), finite_f32()],
             band_geometry(),
-            0u8..32,
+            0u16..256,
             0u32..20,
             0usize..9,
         )
@@ -1284,17 +1480,25 @@ mod pipeline {
             // A world matrix with a hostile scale and translation (still finite, as emit demands).
             m.world = [world_s[0], 0.0, 0.0, 0.0, 0.0, world_s[1], 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, world_s[2], world_s[3], 0.0, 1.0];
             let scene = Scene { meshes: vec![m], materials: vec![white(flags & 1 != 0)], ..Scene::default() };
-            let emit_opts = EmitOptions { float_positions: flags & 16 != 0, ..EmitOptions::default() };
+            let emit_opts = EmitOptions { float_positions: flags & 128 != 0, ..EmitOptions::default() };
             let Ok(data) = emit(&scene, &emit_opts) else { return Ok(()) };
             let model = Model::parse(&data).unwrap();
             let rows = (end_row - first_row) as usize;
             let len = width as usize * rows;
             let mut color = vec![SENTINEL; len + 2 * pad];
             let mut depth = vec![DEPTH_SENTINEL; len + 2 * pad];
-            let mode = [Mode::Solid, Mode::Wireframe, Mode::Points][(flags >> 1) as usize % 3];
-            let shading = [Shading::Unlit, Shading::Flat, Shading::Gouraud][(flags >> 2) as usize % 3];
-            let opts = RenderOptions { mode, shading, subspan, filter: Filter::Nearest, textures: true };
-            let cam = if flags & 8 != 0 {
+            let mode = [Mode::Solid, Mode::Wireframe, Mode::Points, Mode::SolidWireframe][(flags >> 1) as usize % 4];
+            let shading = [Shading::Unlit, Shading::Flat, Shading::Gouraud, Shading::Phong][(flags >> 3) as usize % 4];
+            let opts = RenderOptions {
+                mode,
+                shading,
+                subspan,
+                filter: Filter::Nearest,
+                textures: true,
+                dither: flags & 32 != 0,
+                ..RenderOptions::default()
+            };
+            let cam = if flags & 64 != 0 {
                 perspective([0.5, 1.0, -4.0], [0.0, 0.0, 0.0], width as f32 / height as f32, 0.1)
             } else {
                 Camera::orthographic(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, 4.0, 3.0, 0.1, 100.0).unwrap()
@@ -1336,9 +1540,9 @@ mod pipeline {
     #[test]
     fn ascii_pictures_through_the_pipeline() {
         // Tie case: triangle 1 white (luma 255 -> '1'), triangle 2 grey (luma 128 -> '2'); both
-        // front faces in index order (clockwise in the picture), culling on.
+        // listed as front faces (counter-clockwise in the picture), culling on.
         let (a, b, c, d) = (world(0.5, 0.5), world(12.5, 0.5), world(0.5, 6.5), world(12.5, 6.5));
-        let mut m1 = mesh("tie", &[[a, b, c], [b, d, c]], None);
+        let mut m1 = mesh("tie", &[[a, c, b], [b, c, d]], None);
         m1.submeshes = vec![
             SubMeshData { material: Some(0), index_start: 0, index_count: 3 },
             SubMeshData { material: Some(1), index_start: 3, index_count: 3 },
@@ -1366,7 +1570,7 @@ mod pipeline {
 
         // The plain triangle into a BinaryColor frame.
         let [p, q, r] = plain_triangle().map(|v| world(v.x as f32 / 16.0, v.y as f32 / 16.0));
-        let data = build(vec![mesh("plain", &[[p, q, r]], Some(0))], vec![white(true)]);
+        let data = build(vec![mesh("plain", &[[p, r, q]], Some(0))], vec![white(true)]);
         let model = Model::parse(&data).unwrap();
         let mut color = [BinaryColor::Off; 16 * 8];
         let mut band = Band::new(&mut color[..], NoDepth, 16, 8, 0).unwrap();
@@ -1375,8 +1579,8 @@ mod pipeline {
         let pic: Vec<String> =
             color.chunks(16).map(|row| row.iter().map(|c| if c.is_on() { '1' } else { '.' }).collect()).collect();
         assert_eq!(pic, PLAIN_PICTURE, "{stats:?}");
-        // Reversed winding is a back face: culled.
-        let data = build(vec![mesh("plain", &[[p, r, q]], Some(0))], vec![white(true)]);
+        // Clockwise in the picture is a back face: culled.
+        let data = build(vec![mesh("plain", &[[p, q, r]], Some(0))], vec![white(true)]);
         let model = Model::parse(&data).unwrap();
         let (img, stats) = render(&model, &pixel_camera(), 16, 8, &unlit());
         assert!(img.iter().all(|&l| l == 0));

@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# Builds the QEMU firmware (examples/qemu) for the Cortex-M4F (thumbv7em-none-eabihf, run on
+# mps2-an386) and for thumbv6m (thumbv6m-none-eabi, run on mps2-an385's Cortex-M3), renders the
+# reference Suzanne frame on each, and checks the result:
+#   - QEMU exits 0 and the firmware printed its JSON statistics line (shown here);
+#   - the frame covers 14,457 pixels (the reference coverage) and the frame file is 240x240x2 bytes;
+#   - the two targets' frames are identical byte for byte.
+# Frames: out/qemu-frame-m4.rgb565 and out/qemu-frame-m0.rgb565 (little-endian RGB565, 240x240,
+# row-major, no header), for the host-side comparison in tests/.
+#
+# Needs: rustup targets thumbv7em-none-eabihf and thumbv6m-none-eabi, qemu-system-arm.
+# Exit status: 0 when every check passed, 1 otherwise.
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+fw="$root/examples/qemu"
+out="$root/out"
+expected_covered=14457
+frame_bytes=$((240 * 240 * 2))
+
+if ! command -v qemu-system-arm >/dev/null; then
+    echo "qemu-check: qemu-system-arm not found (apt-get install -y --no-install-recommends qemu-system-arm)" >&2
+    exit 1
+fi
+mkdir -p "$out"
+
+# target  machine  cpu  suffix
+configs=(
+    "thumbv7em-none-eabihf mps2-an386 cortex-m4 m4"
+    "thumbv6m-none-eabi mps2-an385 cortex-m3 m0"
+)
+
+failed=0
+for config in "${configs[@]}"; do
+    read -r target machine cpu suffix <<<"$config"
+    echo "== $target on $machine ($cpu)"
+    (cd "$fw" && cargo build --release --quiet --target "$target")
+    elf="$fw/target/$target/release/soft3d-qemu"
+    frame="$out/qemu-frame-$suffix.rgb565"
+    rm -f "$out/qemu-frame.rgb565" "$frame"
+    # The firmware writes out/qemu-frame.rgb565 relative to QEMU's working directory.
+    set +e
+    json="$(cd "$root" && timeout 300 qemu-system-arm -machine "$machine" -cpu "$cpu" -nographic -monitor none \
+        -serial none -semihosting-config enable=on,target=native -kernel "$elf")"
+    status=$?
+    set -e
+    echo "$json"
+    if [ "$status" -ne 0 ]; then
+        echo "FAIL: $target: QEMU exited with status $status (124 = timed out)" >&2
+        failed=1
+        continue
+    fi
+    line="$(grep -m1 '^{"frame"' <<<"$json" || true)"
+    covered="$(sed -n 's/.*"covered":\([0-9]*\).*/\1/p' <<<"$line")"
+    if [ -z "$line" ]; then
+        echo "FAIL: $target: no JSON statistics line" >&2
+        failed=1
+    elif [ "$covered" != "$expected_covered" ]; then
+        echo "FAIL: $target: covered $covered pixels, expected $expected_covered" >&2
+        failed=1
+    fi
+    if [ ! -f "$out/qemu-frame.rgb565" ]; then
+        echo "FAIL: $target: no frame written" >&2
+        failed=1
+        continue
+    fi
+    mv "$out/qemu-frame.rgb565" "$frame"
+    size="$(wc -c <"$frame")"
+    if [ "$size" -ne "$frame_bytes" ]; then
+        echo "FAIL: $target: $frame has $size bytes, expected $frame_bytes" >&2
+        failed=1
+    fi
+done
+
+m4="$out/qemu-frame-m4.rgb565"
+m0="$out/qemu-frame-m0.rgb565"
+if [ -f "$m4" ] && [ -f "$m0" ]; then
+    if cmp -s "$m4" "$m0"; then
+        echo "frames identical on both targets"
+    else
+        echo "FAIL: the thumbv7em and thumbv6m frames differ ($(cmp -l "$m4" "$m0" | wc -l) bytes)" >&2
+        failed=1
+    fi
+fi
+echo "frames: $m4 $m0"
+if [ "$failed" -ne 0 ]; then
+    echo "qemu-check: FAILED" >&2
+    exit 1
+fi
+echo "qemu-check: ok"

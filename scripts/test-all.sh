@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Everything CI checks, from a fresh machine: installs what the tests need (rustup targets,
+# qemu-system-arm), then host tests, lints, MCU-target builds, the QEMU firmware run compared
+# with the host rendering, the board firmware builds, and the MCU instruction-count table.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+step() { printf '\n==> %s\n' "$*"; }
+
+step "toolchain targets"
+rustup target add thumbv6m-none-eabi thumbv7em-none-eabihf riscv32imc-unknown-none-elf
+rustup component add clippy rustfmt >/dev/null 2>&1 || true
+
+if ! command -v qemu-system-arm >/dev/null; then
+  step "installing qemu-system-arm"
+  if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends qemu-system-arm
+fi
+
+step "format and lints"
+cargo fmt --all -- --check
+cargo clippy --all-targets -- -D warnings
+
+step "host tests"
+cargo test
+
+step "core library for the MCU targets (no_std, no alloc, default features)"
+for t in thumbv6m-none-eabi thumbv7em-none-eabihf riscv32imc-unknown-none-elf; do
+  cargo build --release --lib --target "$t"
+done
+
+step "demo, headless"
+cargo run --release --example simulator -- --headless --frames 4
+
+if [ -x scripts/qemu-check.sh ]; then
+  step "QEMU firmware (Cortex-M4F and thumbv6m) and the host comparison"
+  scripts/qemu-check.sh
+  SOFT3D_REQUIRE_QEMU=1 cargo test --release --test qemu_frame -- --nocapture
+fi
+
+if [ -x scripts/build-boards.sh ]; then
+  step "board firmware builds (RP2040, STM32F411)"
+  scripts/build-boards.sh
+fi
+
+if [ -x benches/mcu.sh ]; then
+  step "MCU instruction counts"
+  benches/mcu.sh
+fi
+
+step "all checks passed"
