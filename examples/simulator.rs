@@ -35,9 +35,10 @@ use soft3d::{Band, Camera, Filter, Lights, Mode, Model, RenderOptions, Shading, 
 const WIDTH: u16 = 240;
 const HEIGHT: u16 = 240;
 /// Band heights offered by the `b` key: 1, 2, 5, 8 and 240 bands.
+#[cfg(feature = "window")]
 const BAND_HEIGHTS: [u16; 5] = [240, 120, 48, 30, 1];
 /// 48 rows: 5 bands of 240x48, i.e. 23 KB of colour plus 23 KB of depth.
-const DEFAULT_BAND: usize = 2;
+const DEFAULT_BAND_ROWS: u16 = 48;
 /// (32, 32, 48) in RGB565.
 const BACKGROUND: Rgb565 = Rgb565::new(4, 8, 6);
 /// Headless frames are shown 60 ms each in the GIF; the window turns at the same speed.
@@ -70,12 +71,15 @@ struct Args {
     /// Bilinear texture filtering (the `f` key).
     #[arg(long)]
     bilinear: bool,
-    /// Rows per band: one of 240, 120, 48, 30, 1 (the `b` key cycles them).
-    #[arg(long, default_value_t = BAND_HEIGHTS[DEFAULT_BAND])]
+    /// Rows per band, 1-240 (the `b` key cycles 240, 120, 48, 30, 1).
+    #[arg(long, default_value_t = DEFAULT_BAND_ROWS, value_parser = clap::value_parser!(u16).range(1..=HEIGHT as i64))]
     band_rows: u16,
     /// Ordered dithering down to RGB565 (the `d` key).
     #[arg(long)]
     dither: bool,
+    /// Ignore the scene's camera: frame the model's bounding spheres instead.
+    #[arg(long)]
+    fit: bool,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -131,26 +135,28 @@ struct Scene<'a> {
     model: Model<'a>,
     camera: Camera,
     lights: Lights<4>,
+    /// The model turns about the vertical axis through this point.
+    pivot: Vec3,
 }
 
 /// What the user can change while the demo runs.
 struct Settings {
     look: Look,
     opts: RenderOptions,
-    band: usize,
+    band_rows: u16,
 }
 
-/// The band buffers, allocated once and reused for every band of every frame. Firmware would
-/// use `static mut` arrays of `WIDTH * 48`; here they hold the tallest band the `b` key offers.
+/// The band buffers, allocated once and reused for every band of every frame: firmware would
+/// use two static arrays of `WIDTH * 48`. `rows` is the tallest band they will serve.
 struct BandBuffers {
     color: Vec<Rgb565>,
     depth: Vec<u16>,
 }
 
 impl BandBuffers {
-    fn new() -> Self {
-        let rows = *BAND_HEIGHTS.iter().max().unwrap_or(&HEIGHT) as usize;
-        BandBuffers { color: vec![BACKGROUND; WIDTH as usize * rows], depth: vec![u16::MAX; WIDTH as usize * rows] }
+    fn new(rows: u16) -> Self {
+        let n = WIDTH as usize * rows as usize;
+        BandBuffers { color: vec![BACKGROUND; n], depth: vec![u16::MAX; n] }
     }
 }
 
@@ -172,7 +178,7 @@ impl Hud {
             }
             None => write!(lines[0], "-- ms/frame"),
         };
-        let rows = BAND_HEIGHTS[s.band];
+        let rows = s.band_rows;
         let _ = write!(
             lines[1],
             "{} {} {}x{rows}{}{}",
@@ -215,8 +221,12 @@ fn render_frame<T: DrawTarget<Color = Rgb565>>(
     settings: &Settings,
     hud: &Hud,
 ) -> Result<Stats, T::Error> {
-    let band_rows = BAND_HEIGHTS[settings.band];
-    let transform = Mat4::from_rotation_y(angle);
+    let band_rows = settings.band_rows;
+    let transform = if scene.pivot == Vec3::ZERO {
+        Mat4::from_rotation_y(angle)
+    } else {
+        Mat4::from_translation(scene.pivot) * Mat4::from_rotation_y(angle) * Mat4::from_translation(-scene.pivot)
+    };
     let mut stats = Stats::default();
     let mut first_row = 0;
     while first_row < HEIGHT {
@@ -245,10 +255,6 @@ fn main() -> ExitCode {
 }
 
 fn run(args: &Args) -> Result<(), String> {
-    let band = BAND_HEIGHTS
-        .iter()
-        .position(|&h| h == args.band_rows)
-        .ok_or_else(|| format!("--band-rows: must be one of {BAND_HEIGHTS:?}"))?;
     let default_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/suzanne/monkey.babylon");
     let path = args.scene.clone().unwrap_or(default_path);
     // The tutorial's monkey.babylon counts v from the top of Suzanne.jpg: read as Babylon.js
@@ -261,11 +267,14 @@ fn run(args: &Args) -> Result<(), String> {
     };
     let bytes = load(&path, uv_origin)?;
     let model = Model::parse(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-    let scene = Scene { camera: camera(&model, args.scene.is_none())?, lights: lights(&model), model };
+    let tutorial = args.scene.is_none();
+    // Suzanne sits at the origin; other scenes turn about the centre of their bounds.
+    let pivot = if tutorial { Vec3::ZERO } else { bounds(&model).map_or(Vec3::ZERO, |(c, _)| c) };
+    let scene = Scene { camera: camera(&model, tutorial, args.fit)?, lights: lights(&model), pivot, model };
     let mut opts = RenderOptions { dither: args.dither, ..RenderOptions::default() };
     opts.filter = if args.bilinear { Filter::Bilinear } else { Filter::Nearest };
     args.look.apply(&mut opts);
-    let settings = Settings { look: args.look, opts, band };
+    let settings = Settings { look: args.look, opts, band_rows: args.band_rows };
     println!("{}: {} triangles", path.display(), triangles(&scene.model));
 
     if args.headless {
@@ -304,13 +313,15 @@ fn triangles(model: &Model<'_>) -> u32 {
 /// above the head: on a 240x240 display Suzanne comes out small, in the lower left corner, seen
 /// from the side. The tutorial's final demo looks at her face on, so for her we use a camera at
 /// (0, 0, -4) looking at the origin with a 0.8 rad field of view: she fills about two thirds of
-/// the screen and stays inside it at every angle. Other scenes use their own camera, or one that
-/// frames their bounding spheres when they have none.
-fn camera(model: &Model<'_>, tutorial_scene: bool) -> Result<Camera, String> {
+/// the screen and stays inside it at every angle. Other scenes use their own camera, or (with
+/// `--fit`, or when they have none) one that frames their bounding spheres.
+fn camera(model: &Model<'_>, tutorial_scene: bool, fit: bool) -> Result<Camera, String> {
     let aspect = WIDTH as f32 / HEIGHT as f32;
     let camera = match model.camera() {
-        Some(c) if !tutorial_scene => Camera::from_scene(&c, aspect),
-        _ if tutorial_scene => Camera::perspective(Vec3::new(0.0, 0.0, -4.0), Vec3::ZERO, 0.8, aspect, 0.1, 100.0),
+        _ if tutorial_scene && !fit => {
+            Camera::perspective(Vec3::new(0.0, 0.0, -4.0), Vec3::ZERO, 0.8, aspect, 0.1, 100.0)
+        }
+        Some(c) if !fit => Camera::from_scene(&c, aspect),
         _ => {
             let (eye, target, far) = framing(model);
             Camera::perspective(eye, target, 0.8, aspect, 0.01, far)
@@ -319,8 +330,8 @@ fn camera(model: &Model<'_>, tutorial_scene: bool) -> Result<Camera, String> {
     camera.map_err(|e| e.to_string())
 }
 
-/// Eye, target and far distance for a camera showing every mesh's bounding sphere.
-fn framing(model: &Model<'_>) -> (Vec3, Vec3, f32) {
+/// Centre and radius of a sphere around every mesh's (world-space) bounding sphere.
+fn bounds(model: &Model<'_>) -> Option<(Vec3, f32)> {
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     for (mesh, world) in model.draws() {
         let (c, r) = mesh.bounding_sphere();
@@ -330,18 +341,25 @@ fn framing(model: &Model<'_>) -> (Vec3, Vec3, f32) {
         lo = lo.min(c - Vec3::splat(r * scale));
         hi = hi.max(c + Vec3::splat(r * scale));
     }
-    if !lo.is_finite() || !hi.is_finite() {
-        return (Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, 100.0);
+    (lo.is_finite() && hi.is_finite()).then(|| ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-3)))
+}
+
+/// Eye, target and far distance for a camera showing the whole model at every angle of a turn
+/// about its centre.
+fn framing(model: &Model<'_>) -> (Vec3, Vec3, f32) {
+    match bounds(model) {
+        Some((centre, radius)) => {
+            (centre + Vec3::new(0.0, 0.3, -1.0).normalize() * radius * 2.6, centre, radius * 10.0)
+        }
+        None => (Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, 100.0),
     }
-    let centre = (lo + hi) * 0.5;
-    let radius = ((hi - lo) * 0.5).length().max(1e-3);
-    (centre + Vec3::new(0.0, 0.3, -1.0).normalize() * radius * 2.6, centre, radius * 10.0)
 }
 
 /// The scene's own lights plus some ambient light. monkey.babylon has a single point light at
-/// (4.1, 5.9, 1.0), above and slightly behind Suzanne: without ambient her face is nearly black
-/// whenever it turns away from the light (half of every turn), so 0.2 of ambient keeps the
-/// texture visible all the way round while the point light still models the shape.
+/// (4.1, 5.9, 1.0): above, to the right of and slightly behind Suzanne's face (she looks along
+/// -z, towards the camera), so facing us her face only gets grazing light and renders nearly
+/// black, and the back of her head is unlit for half of every turn. 0.2 of ambient keeps the
+/// texture readable all the way round while the point light still models the shape.
 fn lights(model: &Model<'_>) -> Lights<4> {
     let mut lights = Lights::from_model(model);
     lights.ambient = Vec3::splat(0.2);
@@ -368,7 +386,7 @@ fn run_headless(scene: &Scene<'_>, settings: Settings, args: &Args) -> Result<()
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let output_settings = OutputSettingsBuilder::new().scale(2).build();
     let mut display = SimulatorDisplay::<Rgb565>::new(Size::new(WIDTH as u32, HEIGHT as u32));
-    let mut buffers = BandBuffers::new();
+    let mut buffers = BandBuffers::new(settings.band_rows);
     let triangles = triangles(&scene.model);
 
     // A first frame, not saved, so that frame 0 shows a measured time like all the others.
@@ -422,8 +440,8 @@ fn run_headless(scene: &Scene<'_>, settings: Settings, args: &Args) -> Result<()
     println!("{}: {} bytes", gif_path.display(), gif.len());
     println!(
         "frame time ({} bands of {} rows, {}): average {:.2} ms, min {:.2} ms, max {:.2} ms",
-        HEIGHT.div_ceil(BAND_HEIGHTS[settings.band]),
-        BAND_HEIGHTS[settings.band],
+        HEIGHT.div_ceil(settings.band_rows),
+        settings.band_rows,
         settings.look.name(),
         ms(total) / frames as f64,
         times.iter().map(|&t| ms(t)).fold(f64::INFINITY, f64::min),
@@ -441,7 +459,8 @@ fn run_window(scene: &Scene<'_>, mut settings: Settings, seconds: Option<f32>) -
 
     let mut window = Window::new("soft3d", &OutputSettingsBuilder::new().scale(2).build());
     let mut display = SimulatorDisplay::<Rgb565>::new(Size::new(WIDTH as u32, HEIGHT as u32));
-    let mut buffers = BandBuffers::new();
+    // The `b` key can pick any band height up to the whole frame.
+    let mut buffers = BandBuffers::new(HEIGHT);
     let triangles = triangles(&scene.model);
     // One turn in 36 frames of the GIF's delay.
     let speed = std::f32::consts::TAU / (36.0 * GIF_DELAY_MS as f32 / 1e3);
@@ -492,7 +511,8 @@ fn run_window(scene: &Scene<'_>, mut settings: Settings, seconds: Option<f32>) -
                             }
                         }
                         Keycode::B => {
-                            settings.band = (settings.band + 1) % BAND_HEIGHTS.len();
+                            let next = BAND_HEIGHTS.iter().position(|&h| h == settings.band_rows).map_or(0, |i| i + 1);
+                            settings.band_rows = BAND_HEIGHTS[next % BAND_HEIGHTS.len()];
                             smoothed = None;
                         }
                         Keycode::D => settings.opts.dither = !settings.opts.dither,

@@ -1054,17 +1054,33 @@ const fn expand(v: u16, bits: u32) -> u8 {
     ((v as u32 * 255 + max / 2) / max) as u8
 }
 
+/// [`expand`] as tables, so that decoding a texel per pixel costs no division.
+const fn expand_table<const N: usize>(bits: u32) -> [u8; N] {
+    let mut t = [0; N];
+    let mut v = 0;
+    while v < N {
+        t[v] = expand(v as u16, bits);
+        v += 1;
+    }
+    t
+}
+const EXPAND5: [u8; 32] = expand_table(5);
+const EXPAND6: [u8; 64] = expand_table(6);
+
 /// Decodes one stored texel to RGBA8.
+#[inline(always)]
 #[must_use]
 pub fn decode_texel(format: TextureFormat, b: &[u8]) -> [u8; 4] {
     let at = |i: usize| b.get(i).copied().unwrap_or(0);
     let v16 = u16::from_le_bytes([at(0), at(1)]);
     match format {
-        TextureFormat::Rgb565 => [expand(v16 >> 11, 5), expand((v16 >> 5) & 63, 6), expand(v16 & 31, 5), 255],
+        TextureFormat::Rgb565 => {
+            [EXPAND5[(v16 >> 11) as usize], EXPAND6[((v16 >> 5) & 63) as usize], EXPAND5[(v16 & 31) as usize], 255]
+        }
         TextureFormat::Rgba5551 => [
-            expand(v16 >> 11, 5),
-            expand((v16 >> 6) & 31, 5),
-            expand((v16 >> 1) & 31, 5),
+            EXPAND5[(v16 >> 11) as usize],
+            EXPAND5[((v16 >> 6) & 31) as usize],
+            EXPAND5[((v16 >> 1) & 31) as usize],
             if v16 & 1 != 0 { 255 } else { 0 },
         ],
         TextureFormat::Rgb888 => [at(0), at(1), at(2), 255],

@@ -28,6 +28,15 @@ pub const MAX_VARYINGS: usize = 8;
 /// Fractional bits of varyings in the per-pixel loop.
 pub const VARYING_FRAC: u32 = 16;
 
+/// What the rasterizer calls for each covered pixel.
+pub trait Fragment<const V: usize> {
+    /// Whether the pixel at frame `(x, y)` with depth `z` (0..=2^30) survives (the depth
+    /// test); only then are its varyings computed and [`Fragment::shade`] called.
+    fn test(&mut self, x: i32, y: i32, z: u32) -> bool;
+    /// Shades the pixel with its perspective-correct varyings.
+    fn shade(&mut self, x: i32, y: i32, z: u32, varyings: &[i32; V]);
+}
+
 /// A vertex after projection: what the rasterizer needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ScreenVertex {
@@ -39,7 +48,8 @@ pub struct ScreenVertex {
     pub z: f32,
     /// `1 / w`.
     pub inv_w: f32,
-    /// Attributes, already in their fixed-point units (16 fractional bits).
+    /// Attributes, already in their fixed-point units (16 fractional bits). A [`Setup`] of
+    /// `V` varyings uses the first `V`.
     pub varyings: [i32; MAX_VARYINGS],
 }
 
@@ -229,7 +239,7 @@ impl<const V: usize> Setup<V> {
     }
 
     /// Perspective-correct varyings where the edge functions are `e` (all >= 0).
-    #[inline]
+    #[inline(always)]
     fn varyings_at(&self, e: [i32; 3]) -> [i32; V] {
         let n = |k: usize| ((e[k].max(0) as u32) >> self.e_shift) * self.inv_w[k];
         let (n0, n1, n2) = (n(0), n(1), n(2));
@@ -254,13 +264,30 @@ impl<const V: usize> Setup<V> {
     /// row, left to right. `z` is 0..=2^30. `subspan` (>= 1) is how often along a span the
     /// varyings are computed exactly; in between they are stepped linearly.
     #[inline]
-    pub fn for_each_pixel(&self, subspan: u32, mut pixel: impl FnMut(i32, i32, u32, &[i32; V])) {
+    pub fn for_each_pixel(&self, subspan: u32, pixel: impl FnMut(i32, i32, u32, &[i32; V])) {
+        struct All<F>(F);
+        impl<F: FnMut(i32, i32, u32, &[i32; V]), const V: usize> Fragment<V> for All<F> {
+            #[inline(always)]
+            fn test(&mut self, _: i32, _: i32, _: u32) -> bool {
+                true
+            }
+            #[inline(always)]
+            fn shade(&mut self, x: i32, y: i32, z: u32, v: &[i32; V]) {
+                (self.0)(x, y, z, v);
+            }
+        }
+        self.for_each_fragment(subspan, &mut All(pixel));
+    }
+
+    /// Like [`Setup::for_each_pixel`], but asks `f.test` (the depth test) first, so that with
+    /// `subspan == 1` a hidden pixel costs no perspective division.
+    #[inline]
+    pub fn for_each_fragment(&self, subspan: u32, f: &mut impl Fragment<V>) {
         let subspan = subspan.max(1) as i32;
         let width = self.x1 - self.x0;
-        // Origin row in frame coordinates (see `new`).
-        let oy = self.origin_row;
         for y in self.y0..=self.y1 {
-            let dy = y - oy;
+            // Rows are measured from the origin row in frame coordinates (see `new`).
+            let dy = y - self.origin_row;
             let mut lo = 0;
             let mut hi = width;
             for e in &self.edges {
@@ -278,15 +305,36 @@ impl<const V: usize> Setup<V> {
             if lo > hi {
                 continue;
             }
-            let e_at = |x: i32| -> [i32; 3] {
-                core::array::from_fn(|k| self.edges[k].c + self.edges[k].b * 16 * dy + self.edges[k].a * 16 * x)
-            };
+            let mut e: [i32; 3] = core::array::from_fn(|k| {
+                let edge = &self.edges[k];
+                edge.c + edge.b * 16 * dy + edge.a * 16 * lo
+            });
+            let step_e: [i32; 3] = core::array::from_fn(|k| self.edges[k].a * 16);
             let mut z = self.z_origin + self.z_dx * lo as i64 + self.z_dy * dy as i64;
+            let depth = |z: i64| (z >> 10).clamp(0, 1 << 30) as u32;
+            if subspan == 1 {
+                // Exact: every pixel gets its own perspective division, after the depth test.
+                for x in lo..=hi {
+                    let zq = depth(z);
+                    if f.test(self.x0 + x, y, zq) {
+                        f.shade(self.x0 + x, y, zq, &self.varyings_at(e));
+                    }
+                    z += self.z_dx;
+                    for k in 0..3 {
+                        e[k] += step_e[k];
+                    }
+                }
+                continue;
+            }
+            let e_at = |x: i32| -> [i32; 3] { core::array::from_fn(|k| e[k] + step_e[k] * (x - lo)) };
             let mut xs = lo;
             let mut vs = self.varyings_at(e_at(xs));
             loop {
                 if xs == hi {
-                    pixel(self.x0 + xs, y, (z >> 10).clamp(0, 1 << 30) as u32, &vs);
+                    let zq = depth(z);
+                    if f.test(self.x0 + xs, y, zq) {
+                        f.shade(self.x0 + xs, y, zq, &vs);
+                    }
                     break;
                 }
                 let xe = (xs + subspan).min(hi);
@@ -303,7 +351,10 @@ impl<const V: usize> Setup<V> {
                 }
                 let mut cur = vs;
                 for x in xs..xe {
-                    pixel(self.x0 + x, y, (z >> 10).clamp(0, 1 << 30) as u32, &cur);
+                    let zq = depth(z);
+                    if f.test(self.x0 + x, y, zq) {
+                        f.shade(self.x0 + x, y, zq, &cur);
+                    }
                     z += self.z_dx;
                     for k in 0..V {
                         cur[k] = cur[k].wrapping_add(step[k]);

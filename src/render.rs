@@ -4,7 +4,7 @@ use crate::camera::Camera;
 use crate::clip::{clip_triangle, ClipResult, ClipVertex, Planes, Polygon};
 use crate::format::{Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3, Vec4};
-use crate::raster::{Reject, ScreenVertex, Setup, Window, MAX_VARYINGS};
+use crate::raster::{Fragment, Reject, ScreenVertex, Setup, Window, MAX_VARYINGS};
 use crate::shade::{modulate, Filter, Lights, PixelLights, Sampler};
 use crate::target::{Band, DepthBuffer, FrameColor, NoDepth, GUARD_HALF_EXTENT};
 
@@ -111,7 +111,7 @@ impl core::ops::AddAssign for Stats {
 // Varying slots. Unlit/flat/Gouraud: U, V, light r, g, b. Phong: U, V, normal x, y, z,
 // world position x, y, z.
 const U: usize = 0;
-const V: usize = 1;
+const V_: usize = 1;
 const LIGHT: usize = 2;
 const NORMAL: usize = 2;
 const POSITION: usize = 5;
@@ -448,7 +448,7 @@ fn vertex_varyings<const L: usize>(
         let (o, sc) = s.uv;
         let mut varyings = [0.0; MAX_VARYINGS];
         varyings[U] = (o[0] + uv[0] as f32 * sc[0]) * tex_size.0;
-        varyings[V] = (o[1] + uv[1] as f32 * sc[1]) * tex_size.1;
+        varyings[V_] = (o[1] + uv[1] as f32 * sc[1]) * tex_size.1;
         if ctx.opts.shading == Shading::Phong {
             let n = normal(k);
             varyings[NORMAL..NORMAL + 3].copy_from_slice(&(n * ONE).to_array());
@@ -496,7 +496,7 @@ impl Base for Diffuse {
 }
 
 impl Base for Sampler<'_> {
-    #[inline]
+    #[inline(always)]
     fn base(&self, u: i32, v: i32) -> Option<[u8; 3]> {
         let t = self.sample(u, v);
         (t[3] >= 128).then_some([t[0], t[1], t[2]])
@@ -506,25 +506,28 @@ impl Base for Sampler<'_> {
 /// Where a fragment's light comes from.
 trait Lighting {
     /// Light per channel in 16.16 (1.0 = 65536) from the pixel's varyings.
-    fn light(&self, v: &[i32; MAX_VARYINGS]) -> [i32; 3];
+    fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3];
 }
 
 /// Light interpolated from the vertices (unlit, flat, Gouraud).
 struct Interpolated;
 
 impl Lighting for Interpolated {
-    #[inline]
-    fn light(&self, v: &[i32; MAX_VARYINGS]) -> [i32; 3] {
+    #[inline(always)]
+    fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
         [v[LIGHT], v[LIGHT + 1], v[LIGHT + 2]]
     }
 }
 
 impl<const L: usize> Lighting for PixelLights<L> {
-    #[inline]
-    fn light(&self, v: &[i32; MAX_VARYINGS]) -> [i32; 3] {
+    #[inline(always)]
+    fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
         self.at([v[NORMAL], v[NORMAL + 1], v[NORMAL + 2]], [v[POSITION], v[POSITION + 1], v[POSITION + 2]])
     }
 }
+
+/// Varyings used without Phong: U, V and light red, green, blue.
+const VARYINGS_LIT: usize = 5;
 
 /// Rasterizes one screen triangle, choosing the monomorphised inner loop once per triangle so
 /// the per-pixel loop never branches on modes.
@@ -537,55 +540,105 @@ fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     sampler: Option<&Sampler<'_>>,
     stats: &mut Stats,
 ) {
-    let setup = match Setup::<MAX_VARYINGS>::new(tri, &ctx.window, material.cull_back_faces, flip) {
-        Ok(setup) => setup,
-        Err(r) => return count_reject(r, stats),
-    };
-    stats.drawn += 1;
     let diffuse = Diffuse([material.rgba[0], material.rgba[1], material.rgba[2]]);
     let phong = ctx.opts.shading == Shading::Phong;
     let dither = ctx.opts.dither;
-    let sub = ctx.opts.subspan;
-    match (sampler, phong, dither) {
-        (Some(t), false, false) => fragments::<_, _, _, _, false>(band, &setup, sub, t, &Interpolated, stats),
-        (Some(t), false, true) => fragments::<_, _, _, _, true>(band, &setup, sub, t, &Interpolated, stats),
-        (Some(t), true, false) => fragments::<_, _, _, _, false>(band, &setup, sub, t, &ctx.pixel_lights, stats),
-        (Some(t), true, true) => fragments::<_, _, _, _, true>(band, &setup, sub, t, &ctx.pixel_lights, stats),
-        (None, false, false) => fragments::<_, _, _, _, false>(band, &setup, sub, &diffuse, &Interpolated, stats),
-        (None, false, true) => fragments::<_, _, _, _, true>(band, &setup, sub, &diffuse, &Interpolated, stats),
-        (None, true, false) => fragments::<_, _, _, _, false>(band, &setup, sub, &diffuse, &ctx.pixel_lights, stats),
-        (None, true, true) => fragments::<_, _, _, _, true>(band, &setup, sub, &diffuse, &ctx.pixel_lights, stats),
+    let cull = material.cull_back_faces;
+    let pl = &ctx.pixel_lights;
+    let raster = (&ctx.window, ctx.opts.subspan);
+    let r = match (sampler, phong, dither) {
+        (Some(t), false, false) => {
+            fragments::<_, _, _, _, VARYINGS_LIT, false>(band, raster, tri, cull, flip, t, &Interpolated, stats)
+        }
+        (Some(t), false, true) => {
+            fragments::<_, _, _, _, VARYINGS_LIT, true>(band, raster, tri, cull, flip, t, &Interpolated, stats)
+        }
+        (Some(t), true, false) => {
+            fragments::<_, _, _, _, MAX_VARYINGS, false>(band, raster, tri, cull, flip, t, pl, stats)
+        }
+        (Some(t), true, true) => {
+            fragments::<_, _, _, _, MAX_VARYINGS, true>(band, raster, tri, cull, flip, t, pl, stats)
+        }
+        (None, false, false) => {
+            fragments::<_, _, _, _, VARYINGS_LIT, false>(band, raster, tri, cull, flip, &diffuse, &Interpolated, stats)
+        }
+        (None, false, true) => {
+            fragments::<_, _, _, _, VARYINGS_LIT, true>(band, raster, tri, cull, flip, &diffuse, &Interpolated, stats)
+        }
+        (None, true, false) => {
+            fragments::<_, _, _, _, MAX_VARYINGS, false>(band, raster, tri, cull, flip, &diffuse, pl, stats)
+        }
+        (None, true, true) => {
+            fragments::<_, _, _, _, MAX_VARYINGS, true>(band, raster, tri, cull, flip, &diffuse, pl, stats)
+        }
+    };
+    match r {
+        Ok(()) => stats.drawn += 1,
+        Err(r) => count_reject(r, stats),
     }
 }
 
-/// The per-pixel loop: depth test, base colour (alpha test), light, store.
+/// The per-pixel work for one triangle: depth test, base colour (alpha test), light, store.
+struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
+    color: &'b mut [C],
+    depth: &'b mut D,
+    width: usize,
+    first_row: i32,
+    base: &'s B,
+    lighting: &'s Lt,
+    index: usize,
+    stats: &'s mut Stats,
+}
+
+impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool> Fragment<V>
+    for Shader<'_, '_, C, D, B, Lt, DITHER>
+{
+    #[inline(always)]
+    fn test(&mut self, x: i32, y: i32, z: u32) -> bool {
+        self.index = (y - self.first_row) as usize * self.width + x as usize;
+        let pass = self.depth.passes(self.index, z);
+        self.stats.depth_rejected += u32::from(!pass);
+        pass
+    }
+
+    #[inline(always)]
+    fn shade(&mut self, x: i32, y: i32, z: u32, v: &[i32; V]) {
+        // A cut-out texel writes neither colour nor depth.
+        let Some(rgb) = self.base.base(v[U], v[V_]) else { return };
+        let rgb = modulate(rgb, self.lighting.light(v));
+        if let Some(px) = self.color.get_mut(self.index) {
+            *px = if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) };
+            self.depth.store(self.index, z);
+            self.stats.pixels_written += 1;
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool>(
+fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
-    setup: &Setup<MAX_VARYINGS>,
-    subspan: u32,
+    (window, subspan): (&Window, u32),
+    tri: &[ScreenVertex; 3],
+    cull_back: bool,
+    flip: bool,
     base: &B,
     lighting: &Lt,
     stats: &mut Stats,
-) {
-    let width = band.width as usize;
-    let first_row = band.first_row as i32;
-    let (color, depth) = (&mut *band.color, &mut band.depth);
-    setup.for_each_pixel(subspan, |x, y, z, v| {
-        let i = (y - first_row) as usize * width + x as usize;
-        if !depth.passes(i, z) {
-            stats.depth_rejected += 1;
-            return;
-        }
-        // A cut-out texel writes neither colour nor depth.
-        let Some(rgb) = base.base(v[U], v[V]) else { return };
-        let rgb = modulate(rgb, lighting.light(v));
-        if let Some(px) = color.get_mut(i) {
-            *px = if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) };
-            depth.store(i, z);
-            stats.pixels_written += 1;
-        }
-    });
+) -> Result<(), Reject> {
+    let setup = Setup::<V>::new(tri, window, cull_back, flip)?;
+    let mut shader = Shader::<C, D, B, Lt, DITHER> {
+        width: band.width as usize,
+        first_row: band.first_row as i32,
+        color: &mut *band.color,
+        depth: &mut band.depth,
+        base,
+        lighting,
+        index: 0,
+        stats,
+    };
+    setup.for_each_fragment(subspan, &mut shader);
+    Ok(())
 }
 
 /// Writes one pixel at integer pixel `(x, y)` if it is in the band and passes depth.

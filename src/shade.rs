@@ -192,20 +192,25 @@ pub enum Filter {
 struct Axis {
     size: i32,
     wrap: Wrap,
+    /// `size - 1` for a power-of-two size that repeats (then folding is one AND), else -1.
+    mask: i32,
 }
 
 impl Axis {
+    fn new(size: u16, wrap: Wrap) -> Self {
+        let size = size as i32;
+        let pow2_repeat = wrap == Wrap::Repeat && size & (size - 1) == 0;
+        Axis { size, wrap, mask: if pow2_repeat { size - 1 } else { -1 } }
+    }
+
     /// Folds texel coordinate `i` into `0..size`.
-    #[inline]
+    #[inline(always)]
     fn fold(self, i: i32) -> i32 {
+        if self.mask >= 0 {
+            return i & self.mask;
+        }
         match self.wrap {
-            Wrap::Repeat => {
-                if self.size & (self.size - 1) == 0 {
-                    i & (self.size - 1)
-                } else {
-                    i.rem_euclid(self.size)
-                }
-            }
+            Wrap::Repeat => i.rem_euclid(self.size),
             Wrap::Clamp => i.clamp(0, self.size - 1),
             Wrap::Mirror => {
                 let m = i.rem_euclid(2 * self.size);
@@ -232,12 +237,7 @@ impl<'a> Sampler<'a> {
     /// A sampler for `texture` with the given wrap modes and filter.
     #[must_use]
     pub fn new(texture: Texture<'a>, wrap_u: Wrap, wrap_v: Wrap, filter: Filter) -> Self {
-        Sampler {
-            u: Axis { size: texture.width as i32, wrap: wrap_u },
-            v: Axis { size: texture.height as i32, wrap: wrap_v },
-            texture,
-            filter,
-        }
+        Sampler { u: Axis::new(texture.width, wrap_u), v: Axis::new(texture.height, wrap_v), texture, filter }
     }
 
     /// Texture width in texels.
@@ -258,7 +258,7 @@ impl<'a> Sampler<'a> {
         self.texture.format.has_alpha()
     }
 
-    #[inline]
+    #[inline(always)]
     fn texel(&self, i: i32, j: i32) -> [u8; 4] {
         let (i, j) = (self.u.fold(i) as usize, self.v.fold(j) as usize);
         let t = &self.texture;
@@ -281,7 +281,7 @@ impl<'a> Sampler<'a> {
     }
 
     /// RGBA at texel coordinates `(u, v)` in 16.16 (v counted from the bottom row).
-    #[inline]
+    #[inline(always)]
     #[must_use]
     pub fn sample(&self, u: i32, v: i32) -> [u8; 4] {
         match self.filter {
@@ -305,7 +305,7 @@ impl<'a> Sampler<'a> {
 }
 
 /// `c · light` per channel with `light` in 16.16 (1.0 = 65536), rounded, clamped to 255.
-#[inline]
+#[inline(always)]
 #[must_use]
 pub fn modulate(c: [u8; 3], light: [i32; 3]) -> [u8; 3] {
     core::array::from_fn(|k| {

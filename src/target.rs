@@ -44,16 +44,30 @@ fn narrow_dithered(v: u8, max: u32, x: u32, y: u32) -> u8 {
 }
 
 /// `v` (0..=255) scaled to `0..=max`, rounded to nearest.
-#[inline]
-fn narrow(v: u8, max: u32) -> u8 {
+const fn narrow_exact(v: u8, max: u32) -> u8 {
     ((v as u32 * max + 127) / 255) as u8
 }
 
 /// `v` (0..=max) scaled to 0..=255, rounded to nearest.
-#[inline]
-fn widen(v: u8, max: u32) -> u8 {
+const fn widen_exact(v: u8, max: u32) -> u8 {
     ((v as u32 * 255 + max / 2) / max) as u8
 }
+
+/// Tables of [`narrow_exact`] (`widen == false`) or [`widen_exact`] for every `v`: per-pixel
+/// conversions without division.
+const fn table(widen: bool, max: u32) -> [u8; 256] {
+    let mut t = [0; 256];
+    let mut v = 0;
+    while v < 256 {
+        t[v] = if widen { widen_exact(v as u8, max) } else { narrow_exact(v as u8, max) };
+        v += 1;
+    }
+    t
+}
+const NARROW5: [u8; 256] = table(false, 31);
+const NARROW6: [u8; 256] = table(false, 63);
+const WIDEN5: [u8; 256] = table(true, 31);
+const WIDEN6: [u8; 256] = table(true, 63);
 
 /// Rec. 601 luma of 8-bit RGB, in 0..=255.
 #[inline]
@@ -76,7 +90,7 @@ impl FrameColor for Rgb888 {
 impl FrameColor for Rgb565 {
     #[inline]
     fn from_rgb888(rgb: [u8; 3]) -> Self {
-        Rgb565::new(narrow(rgb[0], 31), narrow(rgb[1], 63), narrow(rgb[2], 31))
+        Rgb565::new(NARROW5[rgb[0] as usize], NARROW6[rgb[1] as usize], NARROW5[rgb[2] as usize])
     }
     #[inline]
     fn from_rgb888_dithered(rgb: [u8; 3], x: u32, y: u32) -> Self {
@@ -88,7 +102,7 @@ impl FrameColor for Rgb565 {
     }
     #[inline]
     fn to_rgb888(self) -> [u8; 3] {
-        [widen(self.r(), 31), widen(self.g(), 63), widen(self.b(), 31)]
+        [WIDEN5[self.r() as usize], WIDEN6[self.g() as usize], WIDEN5[self.b() as usize]]
     }
 }
 
