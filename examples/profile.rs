@@ -20,14 +20,15 @@ fn main() {
     let mut depth = vec![0u16; w * rows];
     let start = std::time::Instant::now();
     let mut pixels = 0;
+    let mut rows_seen = vec![soft3d::TriangleRows::default(); 966];
     for _ in 0..frames {
+        let mut cache = soft3d::RowCache::new(&mut rows_seen);
         for first in (0..h).step_by(rows) {
             let n = rows.min(h - first) * w;
             let mut band = Band::new(&mut color[..n], &mut depth[..n], w as u16, h as u16, first as u16).expect("band");
             band.clear(Rgb565::BLACK);
-            pixels +=
-                soft3d::draw_model(&mut band, &model, reference::transform(), &camera, &lights, &reference::options())
-                    .pixels_written;
+            let (t, o) = (reference::transform(), reference::options());
+            pixels += soft3d::draw_model_cached(&mut band, &model, t, &camera, &lights, &o, &mut cache).pixels_written;
         }
     }
     let per = start.elapsed().as_secs_f64() * 1e3 / frames as f64;

@@ -45,7 +45,7 @@ pub mod target;
 
 pub use camera::Camera;
 pub use format::{Model, ParseError};
-pub use render::{draw_model, Mode, RenderOptions, Shading, Stats};
+pub use render::{draw_model, draw_model_cached, Mode, RenderOptions, RowCache, Shading, Stats, TriangleRows};
 pub use shade::{Filter, Lights};
 pub use target::{Band, DepthBuffer, FrameColor, NoDepth, Rgb565Be};
 

@@ -153,22 +153,31 @@ pub enum Reject {
     Empty,
 }
 
+/// Twice the signed image-space area of `tri` (y down), checked against the culling rule:
+/// front faces are counter-clockwise with y up, i.e. a negative area here, unless `flip`.
+///
+/// # Errors
+/// [`Reject::Degenerate`] for zero area, [`Reject::BackFace`] for a culled back face.
+pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
+    let [p0, p1, p2] = tri;
+    // Coordinates are < 2^15 apart (guard band): the products fit i64 easily.
+    let area = (p1.x - p0.x) as i64 * (p2.y - p0.y) as i64 - (p2.x - p0.x) as i64 * (p1.y - p0.y) as i64;
+    if area == 0 {
+        return Err(Reject::Degenerate);
+    }
+    if cull_back && (area < 0) == flip {
+        return Err(Reject::BackFace);
+    }
+    Ok(area)
+}
+
 impl<const V: usize> Setup<V> {
     /// Prepares `tri` for rasterization into `win`. `cull_front_ccw`: cull triangles whose
     /// image-space winding is counter-clockwise in window coordinates' opposite sense, i.e. back
     /// faces; `flip` inverts which winding counts as front (negative-determinant transforms).
     pub fn new(tri: &[ScreenVertex; 3], win: &Window, cull_back: bool, flip: bool) -> Result<Self, Reject> {
         let [p0, p1, p2] = tri;
-        // Twice the signed area in image coordinates (y down). Front faces are counter-clockwise
-        // with y up, which is a negative area here. Coordinates are < 2^15 apart: fits i64 easily.
-        let area = (p1.x - p0.x) as i64 * (p2.y - p0.y) as i64 - (p2.x - p0.x) as i64 * (p1.y - p0.y) as i64;
-        if area == 0 {
-            return Err(Reject::Degenerate);
-        }
-        let front = (area < 0) != flip;
-        if cull_back && !front {
-            return Err(Reject::BackFace);
-        }
+        let area = facing(tri, cull_back, flip)?;
         // Reorder so the inside is E > 0 (positive image-space area).
         let (a, b, c) = if area > 0 { (p0, p1, p2) } else { (p0, p2, p1) };
         let area = area.abs();

@@ -4,7 +4,7 @@ use crate::camera::Camera;
 use crate::clip::{clip_triangle, ClipResult, ClipVertex, Planes, Polygon};
 use crate::format::{Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3, Vec4};
-use crate::raster::{Fragment, Reject, ScreenVertex, Setup, Window, MAX_VARYINGS};
+use crate::raster::{facing, Fragment, Reject, ScreenVertex, Setup, Window, MAX_VARYINGS};
 use crate::shade::{modulate, Filter, Lights, PixelLights, Sampler};
 use crate::target::{Band, DepthBuffer, FrameColor, NoDepth, GUARD_HALF_EXTENT};
 
@@ -92,6 +92,8 @@ pub struct Stats {
     pub pixels_written: u32,
     /// Fragments rejected by the depth test.
     pub depth_rejected: u32,
+    /// Triangles skipped because a [`RowCache`] knew they cannot touch this band.
+    pub outside_band: u32,
 }
 
 impl core::ops::AddAssign for Stats {
@@ -105,6 +107,7 @@ impl core::ops::AddAssign for Stats {
         self.drawn += o.drawn;
         self.pixels_written += o.pixels_written;
         self.depth_rejected += o.depth_rejected;
+        self.outside_band += o.outside_band;
     }
 }
 
@@ -132,7 +135,7 @@ pub fn draw_model<C: FrameColor, D: DepthBuffer, const L: usize>(
     let ctx = Context::new(band, camera, lights, opts);
     let mut stats = Stats::default();
     for (mesh, world) in model.draws() {
-        stats += draw_mesh_with(band, &ctx, model, &mesh, transform * world);
+        stats += draw_mesh_with(band, &ctx, model, &mesh, transform * world, None);
     }
     stats
 }
@@ -148,7 +151,7 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
     opts: &RenderOptions,
 ) -> Stats {
     let ctx = Context::new(band, camera, lights, opts);
-    draw_mesh_with(band, &ctx, model, mesh, world)
+    draw_mesh_with(band, &ctx, model, mesh, world, None)
 }
 
 /// One entry of the painter's-mode scratch list: a triangle and its sort key.
@@ -228,7 +231,7 @@ pub fn draw_model_sorted<C: FrameColor, const L: usize>(
             .find(|s| (s.first_triangle..s.first_triangle + s.triangle_count).contains(&e.triangle));
         let material = sub.and_then(|s| s.material).and_then(|m| model.material(m)).unwrap_or_default();
         let sampler = ctx.sampler(model, &setup.mesh, &material);
-        draw_triangle(band, &ctx, setup, e.triangle, &material, sampler.as_ref(), &mut stats);
+        let _ = draw_triangle(band, &ctx, setup, e.triangle, &material, sampler.as_ref(), &mut stats);
     }
     Ok(stats)
 }
@@ -301,10 +304,14 @@ fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     model: &Model<'_>,
     mesh: &Mesh<'_>,
     world: Mat4,
+    mut rows: Option<&mut [TriangleRows]>,
 ) -> Stats {
     let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
     if !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
         stats.culled_frustum_mesh = mesh.triangle_count();
+        if let Some(rows) = rows {
+            rows.fill(TriangleRows::EMPTY);
+        }
         return stats;
     }
     let setup = DrawSetup::new(band, ctx, *mesh, world);
@@ -313,8 +320,101 @@ fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         let sampler = ctx.sampler(model, mesh, &material);
         let first = sub.first_triangle;
         for t in first..first + sub.triangle_count {
-            draw_triangle(band, ctx, &setup, t, &material, sampler.as_ref(), &mut stats);
+            let cached = rows.as_deref_mut().and_then(|r| r.get_mut(t as usize));
+            if let Some(r) = &cached {
+                if !r.may_touch(ctx.window.row_start, ctx.window.row_end) {
+                    stats.outside_band += 1;
+                    continue;
+                }
+            }
+            let seen = draw_triangle(band, ctx, &setup, t, &material, sampler.as_ref(), &mut stats);
+            if let Some(r) = cached {
+                *r = seen;
+            }
         }
+    }
+    stats
+}
+
+/// The rows a triangle can touch, learnt in the first band that processes it (see
+/// [`RowCache`]). `UNKNOWN` until then; `EMPTY` for triangles that draw nothing anywhere.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TriangleRows {
+    first: u16,
+    last: u16,
+}
+
+impl Default for TriangleRows {
+    fn default() -> Self {
+        Self::UNKNOWN
+    }
+}
+
+impl TriangleRows {
+    /// Not yet seen this frame.
+    pub const UNKNOWN: TriangleRows = TriangleRows { first: 0, last: u16::MAX };
+    /// Culled: draws nothing in any band.
+    pub const EMPTY: TriangleRows = TriangleRows { first: u16::MAX, last: 0 };
+
+    fn may_touch(&self, row_start: i32, row_end: i32) -> bool {
+        (self.first as i32) < row_end && (self.last as i32) >= row_start
+    }
+
+    /// Rows `floor(min_y)..=floor(max_y)` of the snapped polygon: a superset of the rows whose
+    /// pixel centres it covers and of the rows its wireframe lines and points touch.
+    fn of(screen: &[ScreenVertex], height: u16) -> Self {
+        let min = screen.iter().map(|v| v.y).min().unwrap_or(0) >> 4;
+        let max = screen.iter().map(|v| v.y).max().unwrap_or(-1) >> 4;
+        if max < 0 || min >= height as i32 {
+            return Self::EMPTY;
+        }
+        TriangleRows { first: min.max(0) as u16, last: max.min(height as i32 - 1) as u16 }
+    }
+}
+
+/// A caller-owned record of which rows each triangle of a model covers, so that when a frame is
+/// drawn in bands, the bands after the first skip the triangles that cannot touch them before
+/// any vertex work (4 bytes a triangle, counting instances; no allocation).
+///
+/// Make a new one (or [`RowCache::reset`]) at the start of every frame — the rows depend on
+/// the camera and transforms — then pass it to [`draw_model_cached`] for each band.
+pub struct RowCache<'s> {
+    rows: &'s mut [TriangleRows],
+}
+
+impl<'s> RowCache<'s> {
+    /// A cache over `rows` (contents are reset).
+    pub fn new(rows: &'s mut [TriangleRows]) -> Self {
+        rows.fill(TriangleRows::UNKNOWN);
+        RowCache { rows }
+    }
+
+    /// Forgets everything (call at the start of a frame).
+    pub fn reset(&mut self) {
+        self.rows.fill(TriangleRows::UNKNOWN);
+    }
+}
+
+/// [`draw_model`] for frames drawn in bands: triangles that [`RowCache`] knows cannot touch
+/// this band are skipped without being transformed. Pixels are identical to [`draw_model`]'s.
+/// A cache shorter than the model's triangle count only covers the first triangles.
+pub fn draw_model_cached<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    model: &Model<'_>,
+    transform: Mat4,
+    camera: &Camera,
+    lights: &Lights<L>,
+    opts: &RenderOptions,
+    cache: &mut RowCache<'_>,
+) -> Stats {
+    let ctx = Context::new(band, camera, lights, opts);
+    let mut stats = Stats::default();
+    let mut offset = 0usize;
+    for (mesh, world) in model.draws() {
+        let n = mesh.triangle_count() as usize;
+        let rows = cache.rows.get_mut(offset..offset + n);
+        stats += draw_mesh_with(band, &ctx, model, &mesh, transform * world, rows);
+        offset += n;
     }
     stats
 }
@@ -341,6 +441,7 @@ fn sphere_visible(vp: &Mat4, world: &Mat4, (centre, radius): (Vec3, f32)) -> boo
     })
 }
 
+/// Draws triangle `t` and returns the rows it can touch (for [`RowCache`]).
 fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
@@ -349,20 +450,20 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     material: &Material,
     sampler: Option<&Sampler<'_>>,
     stats: &mut Stats,
-) {
+) -> TriangleRows {
     let idx = s.mesh.triangle(t);
     let qv = idx.map(|i| s.mesh.position_stored(i).extend(1.0));
     let clip = qv.map(|p| s.mvp * p);
     if crate::clip::outside_view(clip) || !clip.iter().all(|c| c.is_finite()) {
         stats.culled_frustum += 1;
-        return;
+        return TriangleRows::EMPTY;
     }
     let tri = vertex_varyings(ctx, s, &idx, &qv, &clip, sampler);
     let mut poly = Polygon::new();
     match clip_triangle(&tri, &ctx.planes, &mut poly) {
         ClipResult::Outside => {
             stats.culled_frustum += 1;
-            return;
+            return TriangleRows::EMPTY;
         }
         ClipResult::Inside => {
             let _ = poly.extend_from_slice(&tri);
@@ -371,6 +472,13 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     }
     let screen: heapless::Vec<ScreenVertex, { crate::clip::MAX_CLIPPED }> =
         poly.iter().map(|v| project(v, ctx.half)).collect();
+    // One facing decision for the whole (convex) polygon, the same in every band.
+    if let Err(r) = facing(&[screen[0], screen[1], screen[2]], material.cull_back_faces, s.flip) {
+        if r == Reject::BackFace || screen.len() == 3 {
+            count_reject(r, stats);
+            return TriangleRows::EMPTY;
+        }
+    }
     let mode = ctx.opts.mode;
     if matches!(mode, Mode::Solid | Mode::SolidWireframe) {
         for k in 1..screen.len() - 1 {
@@ -379,18 +487,6 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         }
     }
     if matches!(mode, Mode::Wireframe | Mode::Points | Mode::SolidWireframe) {
-        // Cull as a filled triangle would, then draw the outline or corners.
-        let tri = [screen[0], screen[1], screen[2]];
-        let whole = Window { width: band.width as i32, row_start: 0, row_end: band.height as i32 };
-        match Setup::<0>::new(&tri, &whole, material.cull_back_faces, s.flip) {
-            Err(r) if r != Reject::Empty => {
-                if mode != Mode::SolidWireframe {
-                    count_reject(r, stats);
-                }
-                return;
-            }
-            _ => {}
-        }
         if mode != Mode::SolidWireframe {
             stats.drawn += 1;
         }
@@ -404,6 +500,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
             }
         }
     }
+    TriangleRows::of(&screen, band.height)
 }
 
 fn count_reject(r: Reject, stats: &mut Stats) {

@@ -4,7 +4,7 @@ use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
 use soft3d::format::{emit, EmitOptions, Model};
 use soft3d::math::Mat4;
 use soft3d::render::{draw_model_sorted, SortEntry};
-use soft3d::{Band, Camera, Lights, Mode, NoDepth, RenderOptions, Shading};
+use soft3d::{Band, Camera, Lights, Mode, NoDepth, RenderOptions, RowCache, Shading, TriangleRows};
 
 const ASSETS: &[&str] = &[
     "suzanne/monkey.babylon",
@@ -43,10 +43,18 @@ fn render(model: &Model<'_>, opts: &RenderOptions, rows: u16) -> (Vec<Rgb888>, V
     let cam = camera(model);
     let lights = Lights::<4>::from_model(model);
     let spin = Mat4::from_rotation_y(0.3);
+    let triangles: usize = model.draws().map(|(m, _)| m.triangle_count() as usize).sum();
+    let mut seen = vec![TriangleRows::default(); triangles];
+    let mut cache = RowCache::new(&mut seen);
     for (k, (c, z)) in color.chunks_mut(rows as usize * w).zip(depth.chunks_mut(rows as usize * w)).enumerate() {
         let mut band = Band::new(c, z, W, H, k as u16 * rows).unwrap();
         band.clear(Rgb888::new(10, 20, 30));
-        soft3d::draw_model(&mut band, model, spin, &cam, &lights, opts);
+        // The whole frame uses plain draw_model, bands the row cache: both must agree.
+        if rows == H {
+            soft3d::draw_model(&mut band, model, spin, &cam, &lights, opts);
+        } else {
+            soft3d::draw_model_cached(&mut band, model, spin, &cam, &lights, opts, &mut cache);
+        }
     }
     (color, depth)
 }

@@ -111,12 +111,12 @@ fn decoded_values_match_the_scene() {
             assert!((q[k] - p[k]).abs() <= extent / 65535.0, "position {i}");
         }
         let n = mesh.normal(i as u32).to_array();
-        for k in 0..3 {
-            assert!((n[k] - m.normals[i][k]).abs() <= 1.0 / 32767.0);
+        for (a, b) in n.iter().zip(m.normals[i]) {
+            assert!((a - b).abs() <= 1.0 / 32767.0);
         }
     }
     assert_eq!(mesh.triangle_count() as usize, m.indices.len() / 3);
-    assert_eq!(mesh.triangle(5).map(|i| i as u32), [m.indices[15], m.indices[16], m.indices[17]]);
+    assert_eq!(mesh.triangle(5), [m.indices[15], m.indices[16], m.indices[17]]);
 }
 
 fn small_file() -> Vec<u8> {
