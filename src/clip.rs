@@ -102,9 +102,12 @@ fn clip_polygon(input: &Polygon, output: &mut Polygon, dist: impl Fn(&ClipVertex
             let _ = output.push(*a);
         }
         if (da >= 0.0) != (db >= 0.0) {
-            let (inside, outside, di, dout) = if da >= 0.0 { (a, b, da, db) } else { (b, a, db, da) };
-            let t = di / (di - dout);
-            let _ = output.push(lerp(inside, outside, t));
+            // Interpolate from the endpoint nearer the plane: with distances 2^24 apart, the
+            // other way round rounds `t` to 1 and returns the far vertex itself. The choice
+            // depends only on the edge, so two triangles sharing it still agree.
+            let (near, far, dn, df) = if da.abs() <= db.abs() { (a, b, da, db) } else { (b, a, db, da) };
+            let t = dn / (dn - df);
+            let _ = output.push(lerp(near, far, t));
         }
     }
 }

@@ -1231,7 +1231,8 @@ mod emit {
                 lo[k] = 0.0;
                 hi[k] = 0.0;
             }
-            scale[k] = (hi[k] - lo[k]) / QUANT_MAX;
+            // In f64, clamped: the span of two huge finite values can overflow f32.
+            scale[k] = ((hi[k] as f64 - lo[k] as f64) / QUANT_MAX as f64).min(f32::MAX as f64) as f32;
         }
         (lo, scale)
     }
@@ -1247,10 +1248,13 @@ mod emit {
     fn bounding_sphere(positions: &[[f32; 3]]) -> [f32; 4] {
         let (lo, scale) = quantizer(positions.iter().copied());
         let centre = Vec3::from(lo) + Vec3::from(scale) * (QUANT_MAX / 2.0);
-        let radius = positions.iter().map(|p| (Vec3::from(*p) - centre).length()).fold(0.0f32, f32::max);
+        // In f64: squares of coordinates above ~1e19 overflow f32.
+        let length = |v: [f64; 3]| libm::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        let radius =
+            positions.iter().map(|p| length([0, 1, 2].map(|k| p[k] as f64 - centre[k] as f64))).fold(0.0f64, f64::max);
         // Grow by the quantization error so the sphere holds the decoded positions too.
-        let slack = Vec3::from(scale).length();
-        [centre.x, centre.y, centre.z, radius + slack]
+        let slack = length(scale.map(f64::from));
+        [centre.x, centre.y, centre.z, (radius + slack).min(f32::MAX as f64) as f32]
     }
 
     fn check_finite_scene(scene: &Scene) -> Result<(), EmitError> {

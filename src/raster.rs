@@ -151,7 +151,17 @@ pub enum Reject {
     BackFace,
     /// No pixel centre of the window is covered.
     Empty,
+    /// A vertex lies outside the guard band or has a non-finite or non-positive `1/w`
+    /// (only float rounding at clipping produces one).
+    OutsideGuardBand,
 }
+
+/// The largest extent of a triangle in 1/16 pixels: twice the guard band's half extent plus
+/// one pixel of slack, so that `A·dx + B·dy` over its bounding box fits in `i32`.
+pub const MAX_EXTENT: i32 = (2 * crate::target::GUARD_HALF_EXTENT as i32 + 1) * 16;
+
+/// The largest absolute coordinate, in 1/16 pixels, the rasterizer accepts.
+pub const MAX_COORD: i32 = 1 << 24;
 
 /// Twice the signed image-space area of `tri` (y down), checked against the culling rule:
 /// front faces are counter-clockwise with y up, i.e. a negative area here, unless `flip`.
@@ -159,8 +169,17 @@ pub enum Reject {
 /// # Errors
 /// [`Reject::Degenerate`] for zero area, [`Reject::BackFace`] for a culled back face.
 pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
+    // Clipping keeps triangles inside the guard band, but float rounding (or a denormal w) can
+    // still push a vertex out; the integer ranges above hold only inside, so refuse the rest.
+    let span = |c: fn(&ScreenVertex) -> i32| {
+        let (lo, hi) = tri.iter().map(c).fold((i32::MAX, i32::MIN), |(l, h), v| (l.min(v), h.max(v)));
+        lo > -MAX_COORD && hi < MAX_COORD && (hi as i64 - lo as i64) < MAX_EXTENT as i64
+    };
+    if !span(|v| v.x) || !span(|v| v.y) || tri.iter().any(|v| !(v.inv_w > 0.0 && v.inv_w.is_finite())) {
+        return Err(Reject::OutsideGuardBand);
+    }
     let [p0, p1, p2] = tri;
-    // Coordinates are < 2^15 apart (guard band): the products fit i64 easily.
+    // Coordinates are < 2^15 apart (checked above): the products fit i64 easily.
     let area = (p1.x - p0.x) as i64 * (p2.y - p0.y) as i64 - (p2.x - p0.x) as i64 * (p1.y - p0.y) as i64;
     if area == 0 {
         return Err(Reject::Degenerate);

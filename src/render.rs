@@ -508,6 +508,7 @@ fn count_reject(r: Reject, stats: &mut Stats) {
         Reject::BackFace => stats.culled_back_face += 1,
         Reject::Degenerate => stats.culled_degenerate += 1,
         Reject::Empty => {}
+        Reject::OutsideGuardBand => stats.culled_frustum += 1,
     }
 }
 

@@ -89,8 +89,8 @@ fn run() -> Result<(), &'static str> {
         cortex_m::singleton!(DEPTH: [u16; BAND_PIXELS] = [0; BAND_PIXELS]).ok_or("depth band taken")?;
 
     let model = Model::parse(SUZANNE).map_err(|_| "suzanne.s3d does not parse")?;
-    let camera = Camera::perspective(Vec3::new(0.0, 0.0, -4.0), Vec3::ZERO, 0.8, 1.0, 0.1, 100.0)
-        .map_err(|_| "bad camera")?;
+    let camera =
+        Camera::perspective(Vec3::new(0.0, 0.0, -4.0), Vec3::ZERO, 0.8, 1.0, 0.1, 100.0).map_err(|_| "bad camera")?;
     let mut lights = Lights::<1>::new(Vec3::splat(0.2));
     lights.push(Lights::<1>::directional(Vec3::new(0.5, -0.5, 1.0), 0.8)).map_err(|_| "too many lights")?;
     let opts = RenderOptions::default();
@@ -100,16 +100,17 @@ fn run() -> Result<(), &'static str> {
     let mut covered = 0u32;
     for frame in 1..=FRAMES {
         let last = frame == FRAMES;
-        let mut file = if last { Some(File::create(FRAME_PATH).map_err(|_| "cannot create out/qemu-frame.rgb565 (does out/ exist in QEMU's working directory?)")?) } else { None };
+        let mut file = if last { Some(create_frame_file()?) } else { None };
         stats = Stats::default();
         covered = 0;
         for b in 0..BANDS {
             let first_row = (b * BAND_ROWS) as u16;
-            let mut band = Band::new(&mut color[..], &mut depth[..], WIDTH, HEIGHT, first_row)
-                .map_err(|_| "band does not fit the frame")?;
-            band.clear(Rgb565::BLACK);
-            stats += soft3d::draw_model(&mut band, &model, transform, &camera, &lights, &opts);
-            drop(band);
+            {
+                let mut band = Band::new(&mut color[..], &mut depth[..], WIDTH, HEIGHT, first_row)
+                    .map_err(|_| "band does not fit the frame")?;
+                band.clear(Rgb565::BLACK);
+                stats += soft3d::draw_model(&mut band, &model, transform, &camera, &lights, &opts);
+            }
             covered += depth.iter().filter(|&&d| d != u16::MAX).count() as u32;
             if let Some(f) = file.as_mut() {
                 write_band(f, &color[..])?;
@@ -134,6 +135,12 @@ fn run() -> Result<(), &'static str> {
     let line = core::str::from_utf8(&line[..n]).map_err(|_| "JSON is not UTF-8")?;
     println!("{line}");
     Ok(())
+}
+
+/// Opens the frame file on the host (truncating it).
+fn create_frame_file() -> Result<File, &'static str> {
+    File::create(FRAME_PATH)
+        .map_err(|_| "cannot create out/qemu-frame.rgb565 (does out/ exist in QEMU's working directory?)")
 }
 
 /// Writes a band's pixels as little-endian RGB565, one row per semihosting call.

@@ -1,0 +1,126 @@
+#!/usr/bin/env bash
+# Microcontroller benchmark: guest instructions executed by QEMU (deterministic, unlike wall-clock
+# time) to render the reference Suzanne frame (240x240 RGB565) with the firmware in
+# examples/qemu, on the Cortex-M4F (thumbv7em-none-eabihf, mps2-an386) and on thumbv6m code
+# (thumbv6m-none-eabi, run on mps2-an385's Cortex-M3).
+#
+# Per-frame cost = count(2 frames) - count(1 frame), which subtracts start-up (stack painting,
+# .data/.bss set-up, model parsing) and the one-off end (frame file, stack scan, JSON line).
+# Both 8 bands of 240x30 (the default) and 1 band of 240x240 (feature `one-band`) are measured.
+# Prints a markdown table.
+#
+# Needs: rustup targets thumbv7em-none-eabihf and thumbv6m-none-eabi, qemu-system-arm 7.2
+# (plugin API v1; Debian bookworm's), gcc, readelf, and the instruction-counting plugin in
+# shared/tools/qemu-insncount beside the repository. Without the plugin (or qemu/gcc) it prints
+# why and "skipped", and exits 0.
+set -euo pipefail
+
+root="$(git -C "$(dirname "${BASH_SOURCE[0]}")" rev-parse --show-toplevel)"
+fw="$root/examples/qemu"
+plugin_dir="$root/../shared/tools/qemu-insncount"
+
+skip() {
+    echo "mcu bench: $1"
+    echo "skipped"
+    exit 0
+}
+[ -f "$plugin_dir/build.sh" ] || skip "no instruction-count plugin at $plugin_dir (shared/tools/qemu-insncount beside the repository)"
+command -v qemu-system-arm >/dev/null || skip "qemu-system-arm not found (apt-get install -y --no-install-recommends qemu-system-arm)"
+command -v gcc >/dev/null || skip "gcc not found (needed to build the plugin)"
+command -v readelf >/dev/null || skip "readelf not found (binutils)"
+
+plugin="$(bash "$plugin_dir/build.sh" | tail -n 1)"
+[ -f "$plugin" ] || { echo "mcu bench: building the plugin failed" >&2; exit 1; }
+
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$work/out" # the firmware writes out/qemu-frame.rgb565 relative to QEMU's working directory
+
+# Sum of the sizes of the named ELF sections (readelf -S: "[Nr] Name Type Address Off Size ...").
+section_bytes() {
+    local elf="$1" sum=0 name type addr off size rest
+    shift
+    while read -r name type addr off size rest; do
+        case " $* " in *" $name "*) sum=$((sum + 16#$size)) ;; esac
+    done < <(readelf -SW "$elf" | sed -n 's/^ *\[ *[0-9]*\] *//p')
+    echo "$sum"
+}
+
+# Runs an ELF under QEMU with the plugin; sets INSNS and JSON.
+run() {
+    local elf="$1" machine="$2" cpu="$3" status=0
+    rm -f "$work/plugin.log"
+    JSON="$(cd "$work" && timeout 120 qemu-system-arm -machine "$machine" -cpu "$cpu" -nographic -monitor none \
+        -serial none -semihosting-config enable=on,target=native -icount shift=0 -kernel "$elf" \
+        -plugin "$plugin" -d plugin -D "$work/plugin.log")" || status=$?
+    if [ "$status" -ne 0 ]; then
+        echo "mcu bench: $elf on $machine exited with status $status (124 = timed out)" >&2
+        exit 1
+    fi
+    INSNS="$(sed -n 's/^insns: *\([0-9]*\).*/\1/p' "$work/plugin.log" | tail -n 1)"
+    [ -n "$INSNS" ] || { echo "mcu bench: no instruction count in plugin.log" >&2; exit 1; }
+}
+
+json_field() { sed -n "s/.*\"$1\":\([0-9]*\).*/\1/p" <<<"$2"; }
+
+# target  board  cpu
+configs=(
+    "thumbv7em-none-eabihf mps2-an386 cortex-m4"
+    "thumbv6m-none-eabi mps2-an385 cortex-m3"
+)
+
+rows=()
+ratios=()
+lines=()
+for config in "${configs[@]}"; do
+    read -r target machine cpu <<<"$config"
+    declare -A per_frame=()
+    for bands in 8 1; do
+        band_feature=""
+        [ "$bands" = 1 ] && band_feature="one-band"
+        declare -A count=()
+        for frames in 1 2; do
+            features="$band_feature"
+            [ "$frames" = 2 ] && features="${features:+$features,}two-frames"
+            echo "building $target, $bands band(s), $frames frame(s)" >&2
+            (cd "$fw" && cargo build --release --quiet --target "$target" --features "$features")
+            elf="$work/$target-$bands-$frames.elf"
+            cp "$fw/target/$target/release/soft3d-qemu" "$elf"
+            run "$elf" "$machine" "$cpu"
+            count[$frames]="$INSNS"
+            if [ "$frames" = 1 ]; then
+                json1="$JSON"
+                elf1="$elf"
+            fi
+            lines+=("$target $bands band(s) $frames frame(s): $JSON")
+        done
+        covered="$(json_field covered "$json1")"
+        stack="$(json_field stack_bytes "$json1")"
+        pf=$((count[2] - count[1]))
+        per_frame[$bands]="$pf"
+        per_px="$(awk -v a="$pf" -v b="$covered" 'BEGIN { printf "%.1f", (b > 0 ? a / b : 0) }')"
+        flash="$(section_bytes "$elf1" .vector_table .text .rodata .data)"
+        ram="$(section_bytes "$elf1" .data .bss .uninit)"
+        rows+=("| $target | $machine ($cpu) | $bands x 240x$((240 / bands)) | ${count[1]} | ${count[2]} | $pf | $covered | $per_px | $flash | $ram | $stack |")
+        unset count
+    done
+    ratios+=("| $target | ${per_frame[8]} | ${per_frame[1]} | $(awk -v a="${per_frame[8]}" -v b="${per_frame[1]}" 'BEGIN { printf "%.3f", a / b }') |")
+    unset per_frame
+done
+
+echo
+echo "Reference Suzanne frame, 240x240 RGB565, textured (nearest), Gouraud, exact perspective."
+echo "Instruction counts from QEMU (-icount shift=0, qemu-insncount plugin); per frame = 2 frames - 1 frame."
+echo "Flash = .vector_table + .text + .rodata + .data (includes the 32 KiB 128x128 RGB565 texture);"
+echo "static RAM = .data + .bss (includes the colour and depth band buffers); stack = high-water mark."
+echo
+echo "| target | board | bands | insns 1 frame | insns 2 frames | insns per frame | covered px | insns per covered px | flash bytes | static RAM bytes | stack bytes |"
+echo "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+printf '%s\n' "${rows[@]}"
+echo
+echo "| target | per frame, 8 bands of 240x30 | per frame, 1 band of 240x240 | 8 bands / 1 band |"
+echo "| --- | ---: | ---: | ---: |"
+printf '%s\n' "${ratios[@]}"
+echo
+echo "JSON lines:"
+printf '%s\n' "${lines[@]}"
