@@ -29,19 +29,20 @@ use semihosting::fs::File;
 use semihosting::io::Write as _;
 use semihosting::{eprintln, println, process};
 use serde::Serialize;
-use soft3d::math::{Mat4, Vec3};
-use soft3d::{Band, Camera, Lights, Model, RenderOptions, Stats};
+use soft3d::{reference, Band, Model, RowCache, Stats, TriangleRows};
 
 /// The reference scene, converted at build time (see build.rs).
 static SUZANNE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
 
-const WIDTH: u16 = 240;
-const HEIGHT: u16 = 240;
+const WIDTH: u16 = reference::WIDTH;
+const HEIGHT: u16 = reference::HEIGHT;
 /// Bands per frame.
 const BANDS: usize = if cfg!(feature = "one-band") { 1 } else { 8 };
 const BAND_ROWS: usize = HEIGHT as usize / BANDS;
 const BAND_PIXELS: usize = WIDTH as usize * BAND_ROWS;
 const _: () = assert!(BAND_ROWS * BANDS == HEIGHT as usize, "BANDS must divide HEIGHT");
+/// Triangles of the Suzanne model (one row-cache entry each).
+const TRIANGLES: usize = 966;
 /// Frames rendered; the image file and the statistics are those of the last one.
 const FRAMES: u32 = if cfg!(feature = "two-frames") { 2 } else { 1 };
 /// Where the last frame goes, relative to QEMU's working directory: little-endian RGB565,
@@ -88,13 +89,16 @@ fn run() -> Result<(), &'static str> {
     let depth: &'static mut [u16; BAND_PIXELS] =
         cortex_m::singleton!(DEPTH: [u16; BAND_PIXELS] = [0; BAND_PIXELS]).ok_or("depth band taken")?;
 
+    let rows_seen: &'static mut [TriangleRows; TRIANGLES] =
+        cortex_m::singleton!(ROWS: [TriangleRows; TRIANGLES] = [TriangleRows::UNKNOWN; TRIANGLES])
+            .ok_or("row cache taken")?;
+
     let model = Model::parse(SUZANNE).map_err(|_| "suzanne.s3d does not parse")?;
-    let camera =
-        Camera::perspective(Vec3::new(0.0, 0.0, -4.0), Vec3::ZERO, 0.8, 1.0, 0.1, 100.0).map_err(|_| "bad camera")?;
-    let mut lights = Lights::<1>::new(Vec3::splat(0.2));
-    lights.push(Lights::<1>::directional(Vec3::new(0.5, -0.5, 1.0), 0.8)).map_err(|_| "too many lights")?;
-    let opts = RenderOptions::default();
-    let transform = Mat4::from_rotation_y(0.5);
+    // The reference frame, shared with the host test that compares our output.
+    let camera = reference::camera(WIDTH, HEIGHT);
+    let lights = reference::lights();
+    let opts = reference::options();
+    let transform = reference::transform();
 
     let mut stats = Stats::default();
     let mut covered = 0u32;
@@ -103,13 +107,16 @@ fn run() -> Result<(), &'static str> {
         let mut file = if last { Some(create_frame_file()?) } else { None };
         stats = Stats::default();
         covered = 0;
+        // Rows each triangle covers, learnt in the first band it is drawn in, so that later
+        // bands skip it before any vertex work.
+        let mut cache = RowCache::new(&mut rows_seen[..]);
         for b in 0..BANDS {
             let first_row = (b * BAND_ROWS) as u16;
             {
                 let mut band = Band::new(&mut color[..], &mut depth[..], WIDTH, HEIGHT, first_row)
                     .map_err(|_| "band does not fit the frame")?;
                 band.clear(Rgb565::BLACK);
-                stats += soft3d::draw_model(&mut band, &model, transform, &camera, &lights, &opts);
+                stats += soft3d::draw_model_cached(&mut band, &model, transform, &camera, &lights, &opts, &mut cache);
             }
             covered += depth.iter().filter(|&&d| d != u16::MAX).count() as u32;
             if let Some(f) = file.as_mut() {
