@@ -20,7 +20,8 @@ fn main() {
     let mut depth = vec![0u16; w * rows];
     let start = std::time::Instant::now();
     let mut pixels = 0;
-    let mut rows_seen = vec![soft3d::TriangleRows::default(); 966];
+    let triangles: usize = model.draws().map(|(m, _)| m.triangle_count() as usize).sum();
+    let mut rows_seen = vec![soft3d::TriangleRows::default(); triangles];
     for _ in 0..frames {
         let mut cache = soft3d::RowCache::new(&mut rows_seen);
         for first in (0..h).step_by(rows) {

@@ -6,8 +6,8 @@ use std::env;
 use std::fs;
 use std::path::PathBuf;
 
-use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::format::{emit, EmitOptions};
+use soft3d::convert::{build_script_convert, ConvertOptions, UvOrigin};
+use soft3d::format::EmitOptions;
 
 /// Largest texture side kept in flash: Suzanne.jpg is 512x512, which is 512 KiB as RGB565;
 /// 128x128 is 32 KiB.
@@ -28,16 +28,13 @@ fn main() {
 
     // The reference frame's model: exact f32 positions (the 14,457-pixel coverage), v = 0 at
     // the top of the image (the 2013 tutorial's Suzanne), texture downscaled for flash.
-    let scene_dir = manifest.join("../../assets/suzanne");
-    let scene = scene_dir.join("monkey.babylon");
-    println!("cargo:rerun-if-changed={}", scene.display());
-    println!("cargo:rerun-if-changed={}", scene_dir.join("Suzanne.jpg").display());
+    let scene = manifest.join("../../assets/suzanne/monkey.babylon");
     let opts = ConvertOptions { uv_origin: UvOrigin::Top, max_texture: Some(MAX_TEXTURE), ..Default::default() };
-    let (scene, warnings) =
-        read_babylon_file(&scene, &opts).unwrap_or_else(|e| panic!("converting {}: {e}", scene.display()));
-    for w in warnings {
-        println!("cargo:warning=monkey.babylon: {w}");
-    }
-    let bytes = emit(&scene, &EmitOptions { float_positions: true, ..Default::default() }).expect("emit .s3d");
-    fs::write(out.join("suzanne.s3d"), bytes).expect("write suzanne.s3d");
+    build_script_convert(
+        &scene,
+        &out.join("suzanne.s3d"),
+        &opts,
+        &EmitOptions { float_positions: true, ..Default::default() },
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
 }

@@ -5,8 +5,8 @@ use std::env;
 use std::fs;
 use std::path::PathBuf;
 
-use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::format::{emit, EmitOptions};
+use soft3d::convert::{build_script_convert, ConvertOptions, UvOrigin};
+use soft3d::format::EmitOptions;
 
 fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("OUT_DIR"));
@@ -27,16 +27,8 @@ fn main() {
 
     // Suzanne: v = 0 at the top of the image (the 2013 tutorial's model), texture down to
     // 128x128 RGB565 (32 KiB of flash instead of 512 KiB), power-of-two sides.
-    let dir = manifest.join("../../assets/suzanne");
-    let scene_path = dir.join("monkey.babylon");
-    println!("cargo:rerun-if-changed={}", scene_path.display());
-    println!("cargo:rerun-if-changed={}", dir.join("Suzanne.jpg").display());
+    let scene = manifest.join("../../assets/suzanne/monkey.babylon");
     let opts = ConvertOptions { uv_origin: UvOrigin::Top, max_texture: Some(128), power_of_two: true };
-    let (scene, warnings) =
-        read_babylon_file(&scene_path, &opts).unwrap_or_else(|e| panic!("converting {}: {e}", scene_path.display()));
-    for w in warnings {
-        println!("cargo:warning=monkey.babylon: {}", w.0);
-    }
-    let bytes = emit(&scene, &EmitOptions::default()).expect("emit suzanne.s3d");
-    fs::write(out.join("suzanne.s3d"), bytes).expect("write suzanne.s3d");
+    build_script_convert(&scene, &out.join("suzanne.s3d"), &opts, &EmitOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
 }

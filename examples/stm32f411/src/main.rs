@@ -23,8 +23,8 @@ use cortex_m::peripheral::DWT;
 use cortex_m_rt::entry;
 use embedded_hal::delay::DelayNs;
 use panic_halt as _;
-use soft3d::math::{Mat4, Vec3};
-use soft3d::{Band, Camera, FrameColor, Lights, Model, RenderOptions, Rgb565Be};
+use soft3d::math::Mat4;
+use soft3d::{reference, Band, Camera, FrameColor, Lights, Model, RenderOptions, Rgb565Be};
 use stm32f4xx_hal::dma::{config::DmaConfig, MemoryToPeripheral, Stream3, StreamsTuple, Transfer};
 use stm32f4xx_hal::gpio::{Output, Speed, PA2, PA3, PA4};
 use stm32f4xx_hal::pac;
@@ -90,18 +90,9 @@ struct Scene {
 impl Scene {
     fn new() -> Self {
         let model = Model::parse(SUZANNE).expect("suzanne.s3d parses");
-        let camera = Camera::perspective(
-            Vec3::new(0.0, 0.0, -4.0),
-            Vec3::ZERO,
-            0.8,
-            f32::from(WIDTH) / f32::from(HEIGHT),
-            0.1,
-            100.0,
-        )
-        .expect("camera");
-        let mut lights = Lights::<1>::new(Vec3::splat(0.2));
-        lights.push(Lights::<1>::directional(Vec3::new(0.5, -0.5, 1.0), 0.8)).expect("one light");
-        Scene { model, camera, lights, opts: RenderOptions::default(), background: Rgb565Be::from_rgb888([0, 0, 0]) }
+        // The reference frame's camera and lights (soft3d::reference), as the QEMU firmware uses.
+        let (camera, lights) = (reference::camera(WIDTH, HEIGHT), reference::lights());
+        Scene { model, camera, lights, opts: reference::options(), background: Rgb565Be::from_rgb888([0, 0, 0]) }
     }
 
     /// Renders band `band` (0..BANDS) of the frame with Suzanne turned by `angle` radians.
