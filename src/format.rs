@@ -1231,8 +1231,11 @@ mod emit {
                 lo[k] = 0.0;
                 hi[k] = 0.0;
             }
-            // In f64, clamped: the span of two huge finite values can overflow f32.
-            scale[k] = ((hi[k] as f64 - lo[k] as f64) / QUANT_MAX as f64).min(f32::MAX as f64) as f32;
+            scale[k] = (hi[k] - lo[k]) / QUANT_MAX;
+            if !scale[k].is_finite() {
+                // The span of two huge finite values overflows f32: take it in f64.
+                scale[k] = ((hi[k] as f64 - lo[k] as f64) / QUANT_MAX as f64).min(f32::MAX as f64) as f32;
+            }
         }
         (lo, scale)
     }

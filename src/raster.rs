@@ -134,8 +134,6 @@ pub struct Setup<const V: usize> {
     z_dy: i64,
     /// 1/w of each vertex, normalised so the largest is 2^16 - 1.
     inv_w: [u32; 3],
-    /// Right shift that brings edge values below 2^15.
-    e_shift: u32,
     /// Varyings at vertex 0 and their differences to vertices 1 and 2.
     v0: [i32; V],
     d1: [i32; V],
@@ -231,8 +229,6 @@ impl<const V: usize> Setup<V> {
 
         let max_w = a.inv_w.max(b.inv_w).max(c.inv_w);
         let norm = |q: f32| ((q / max_w * 65535.0) as u32).max(1);
-        let e_shift = 64 - (area as u64).leading_zeros();
-        let e_shift = e_shift.saturating_sub(15);
 
         let mut v0 = [0; V];
         let mut d1 = [0; V];
@@ -253,7 +249,6 @@ impl<const V: usize> Setup<V> {
             z_dx: to_fixed(gx * 16.0),
             z_dy: to_fixed(gy * 16.0),
             inv_w: [norm(a.inv_w), norm(b.inv_w), norm(c.inv_w)],
-            e_shift,
             v0,
             d1,
             d2,
@@ -269,18 +264,20 @@ impl<const V: usize> Setup<V> {
     /// Perspective-correct varyings where the edge functions are `e` (all >= 0).
     #[inline(always)]
     fn varyings_at(&self, e: [i32; 3]) -> [i32; V] {
-        let n = |k: usize| ((e[k].max(0) as u32) >> self.e_shift) * self.inv_w[k];
-        let (n0, n1, n2) = (n(0), n(1), n(2));
-        let sum = n0 + n1 + n2;
+        // Full-precision weights E_k · (1/w_k): truncating E first loses the far vertices'
+        // weights when the near one is magnified by a large depth ratio.
+        let n = |k: usize| e[k].max(0) as u64 * self.inv_w[k] as u64;
+        let (n1, n2) = (n(1), n(2));
+        let sum = n(0) + n1 + n2;
         let mut out = self.v0;
         if sum == 0 {
             return out;
         }
         // Bring the denominator below 2^16 so that (numerator << 16) fits in u32.
-        let s = (32 - sum.leading_zeros()).saturating_sub(16);
-        let den = sum >> s;
-        let b1 = ((n1 >> s) << 16) / den;
-        let b2 = ((n2 >> s) << 16) / den;
+        let s = (64 - sum.leading_zeros()).saturating_sub(16);
+        let den = (sum >> s) as u32;
+        let b1 = (((n1 >> s) as u32) << 16) / den;
+        let b2 = (((n2 >> s) as u32) << 16) / den;
         for ((o, d1), d2) in out.iter_mut().zip(self.d1).zip(self.d2) {
             let delta = d1 as i64 * b1 as i64 + d2 as i64 * b2 as i64;
             *o = o.wrapping_add((delta >> 16) as i32);

@@ -287,7 +287,9 @@ impl<'a> Sampler<'a> {
         match self.filter {
             Filter::Nearest => self.texel(u >> 16, v >> 16),
             Filter::Bilinear => {
-                let (u, v) = (u.wrapping_sub(1 << 15), v.wrapping_sub(1 << 15));
+                // Half a texel back to the texel centres, and half a weight step forward so the
+                // 8-bit weights below are rounded, not truncated.
+                let (u, v) = (u.wrapping_sub((1 << 15) - (1 << 7)), v.wrapping_sub((1 << 15) - (1 << 7)));
                 let (i, j) = (u >> 16, v >> 16);
                 let (fu, fv) = (((u >> 8) & 255) as u32, ((v >> 8) & 255) as u32);
                 let t00 = self.texel(i, j);
