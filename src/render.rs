@@ -458,6 +458,16 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         stats.culled_frustum += 1;
         return TriangleRows::EMPTY;
     }
+    // Back faces are rejected before any lighting when the triangle is wholly in front of the
+    // eye: projection keeps the winding, and the snapped positions are the ones `project`
+    // computes below, so the decision is the same one the rasterizer would make.
+    if material.cull_back_faces && clip.iter().all(|c| c.w > 0.0) {
+        let screen = clip.map(|c| project_xy(c, ctx.half));
+        if facing(&screen, true, s.flip) == Err(Reject::BackFace) {
+            stats.culled_back_face += 1;
+            return TriangleRows::EMPTY;
+        }
+    }
     let tri = vertex_varyings(ctx, s, &idx, &qv, &clip, sampler);
     let mut poly = Polygon::new();
     match clip_triangle(&tri, &ctx.planes, &mut poly) {
@@ -562,19 +572,23 @@ fn vertex_varyings<const L: usize>(
 }
 
 /// Clip space to screen: viewport mapping, 1/16-pixel snapping, fixed-point varyings.
-fn project(v: &ClipVertex, (hw, hh): (f32, f32)) -> ScreenVertex {
+fn project(v: &ClipVertex, half: (f32, f32)) -> ScreenVertex {
     let inv_w = 1.0 / v.pos.w;
-    let x = (v.pos.x * inv_w + 1.0) * hw;
-    let y = (1.0 - v.pos.y * inv_w) * hh;
-    let snap = |p: f32| crate::math::floor(p * 16.0) as i32;
     ScreenVertex {
-        x: snap(x),
-        y: snap(y),
         z: ((v.pos.z * inv_w + 1.0) * 0.5).clamp(0.0, 1.0),
-        inv_w,
         // Saturating casts: huge UVs clamp instead of wrapping.
         varyings: v.varyings.map(|a| a as i32),
+        ..project_xy(v.pos, half)
     }
+}
+
+/// The snapped screen position (28.4) and `1/w` of a clip-space point; no depth or varyings.
+fn project_xy(pos: Vec4, (hw, hh): (f32, f32)) -> ScreenVertex {
+    let inv_w = 1.0 / pos.w;
+    let x = (pos.x * inv_w + 1.0) * hw;
+    let y = (1.0 - pos.y * inv_w) * hh;
+    let snap = |p: f32| crate::math::floor(p * 16.0) as i32;
+    ScreenVertex { x: snap(x), y: snap(y), z: 0.0, inv_w, varyings: [0; MAX_VARYINGS] }
 }
 
 /// Where a fragment's unlit colour comes from.
