@@ -1,5 +1,5 @@
 //! Renders the reference Suzanne frame repeatedly (for profilers such as callgrind or perf).
-//! `cargo run --release --example profile -- [frames] [width] [height] [bands]`
+//! `cargo run --release --example profile -- [frames] [width] [height] [bands] [unlit|flat|gouraud|phong]`
 use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
 use soft3d::format::{emit, EmitOptions};
@@ -8,6 +8,12 @@ use soft3d::{reference, Band, Model};
 fn main() {
     let arg = |i: usize, d: usize| std::env::args().nth(i).and_then(|a| a.parse().ok()).unwrap_or(d);
     let (frames, w, h, bands) = (arg(1, 200), arg(2, 240), arg(3, 240), arg(4, 1));
+    let shading = match std::env::args().nth(5).as_deref() {
+        Some("unlit") => soft3d::Shading::Unlit,
+        Some("flat") => soft3d::Shading::Flat,
+        Some("phong") => soft3d::Shading::Phong,
+        _ => soft3d::Shading::Gouraud,
+    };
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/suzanne/monkey.babylon");
     let opts = ConvertOptions { uv_origin: UvOrigin::Top, ..Default::default() };
     let (scene, _) = read_babylon_file(path.as_ref(), &opts).expect("asset converts");
@@ -28,10 +34,10 @@ fn main() {
             let n = rows.min(h - first) * w;
             let mut band = Band::new(&mut color[..n], &mut depth[..n], w as u16, h as u16, first as u16).expect("band");
             band.clear(Rgb565::BLACK);
-            let (t, o) = (reference::transform(), reference::options());
+            let (t, o) = (reference::transform(), soft3d::RenderOptions { shading, ..reference::options() });
             pixels += soft3d::draw_model_cached(&mut band, &model, t, &camera, &lights, &o, &mut cache).pixels_written;
         }
     }
     let per = start.elapsed().as_secs_f64() * 1e3 / frames as f64;
-    println!("{w}x{h} in {bands} band(s): {per:.3} ms/frame, {} pixels written/frame", pixels / frames as u32);
+    println!("{w}x{h} {shading:?} in {bands} band(s): {per:.3} ms/frame, {} pixels written/frame", pixels / frames as u32);
 }
