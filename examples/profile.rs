@@ -39,5 +39,8 @@ fn main() {
         }
     }
     let per = start.elapsed().as_secs_f64() * 1e3 / frames as f64;
-    println!("{w}x{h} {shading:?} in {bands} band(s): {per:.3} ms/frame, {} pixels written/frame", pixels / frames as u32);
+    println!(
+        "{w}x{h} {shading:?} in {bands} band(s): {per:.3} ms/frame, {} pixels written/frame",
+        pixels / frames as u32
+    );
 }

@@ -132,12 +132,7 @@ pub fn draw_model<C: FrameColor, D: DepthBuffer, const L: usize>(
     lights: &Lights<L>,
     opts: &RenderOptions,
 ) -> Stats {
-    let ctx = Context::new(band, camera, lights, opts);
-    let mut stats = Stats::default();
-    for (mesh, world) in model.draws() {
-        stats += draw_mesh_with(band, &ctx, model, &mesh, transform * world, None);
-    }
-    stats
+    draw_all(band, model, transform, &Context::new(band, camera, lights, opts), None)
 }
 
 /// Draws one mesh with the given model (local-to-world) matrix.
@@ -407,13 +402,23 @@ pub fn draw_model_cached<C: FrameColor, D: DepthBuffer, const L: usize>(
     opts: &RenderOptions,
     cache: &mut RowCache<'_>,
 ) -> Stats {
-    let ctx = Context::new(band, camera, lights, opts);
+    draw_all(band, model, transform, &Context::new(band, camera, lights, opts), Some(cache))
+}
+
+/// Every draw of `model`, with the cache's slice for each mesh's triangles when there is one.
+fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    model: &Model<'_>,
+    transform: Mat4,
+    ctx: &Context<'_, L>,
+    mut cache: Option<&mut RowCache<'_>>,
+) -> Stats {
     let mut stats = Stats::default();
     let mut offset = 0usize;
     for (mesh, world) in model.draws() {
         let n = mesh.triangle_count() as usize;
-        let rows = cache.rows.get_mut(offset..offset + n);
-        stats += draw_mesh_with(band, &ctx, model, &mesh, transform * world, rows);
+        let rows = cache.as_mut().and_then(|c| c.rows.get_mut(offset..offset + n));
+        stats += draw_mesh_with(band, ctx, model, &mesh, transform * world, rows);
         offset += n;
     }
     stats

@@ -28,8 +28,7 @@ use hal::fugit::RateExtU32;
 use hal::gpio::bank0::{Gpio16, Gpio17, Gpio18, Gpio19};
 use hal::gpio::{FunctionSio, FunctionSpi, OutputDriveStrength, OutputSlewRate, Pin, PullDown, SioOutput};
 use hal::pac;
-use soft3d::math::Mat4;
-use soft3d::{reference, Band, Camera, FrameColor, Lights, Model, RenderOptions, Rgb565Be};
+use soft3d::Rgb565Be;
 
 /// The second-stage bootloader for the Pico's W25Q16JV flash (W25Q080-compatible), placed at
 /// the start of flash by memory.x.
@@ -87,40 +86,9 @@ unsafe impl embedded_dma::ReadBuffer for BandBuf {
     }
 }
 
-/// Everything needed to render a band; the same on both cores.
-#[derive(Clone)]
-struct Scene {
-    model: Model<'static>,
-    camera: Camera,
-    lights: Lights<1>,
-    opts: RenderOptions,
-    background: Rgb565Be,
-}
-
-impl Scene {
-    fn new() -> Self {
-        let model = Model::parse(SUZANNE).expect("suzanne.s3d parses");
-        // The reference frame's camera and lights (soft3d::reference), as the QEMU firmware uses.
-        let (camera, lights) = (reference::camera(WIDTH, HEIGHT), reference::lights());
-        Scene { model, camera, lights, opts: reference::options(), background: Rgb565Be::from_rgb888([0, 0, 0]) }
-    }
-
-    /// Renders band `band` (0..BANDS) of the frame with Suzanne turned by `angle` radians.
-    fn render(&self, color: &mut Pixels, depth: &mut Depth, band: usize, angle: f32) {
-        let first_row = (band * BAND_ROWS) as u16;
-        let mut target =
-            Band::new(&mut color[..], &mut depth[..], WIDTH, HEIGHT, first_row).expect("band fits the frame");
-        target.clear(self.background);
-        soft3d::draw_model(
-            &mut target,
-            &self.model,
-            Mat4::from_rotation_y(angle),
-            &self.camera,
-            &self.lights,
-            &self.opts,
-        );
-    }
-}
+#[path = "../../common/board_scene.rs"]
+mod board_scene;
+use board_scene::Scene;
 
 type SpiPins = (Pin<Gpio19, FunctionSpi, PullDown>, Pin<Gpio18, FunctionSpi, PullDown>);
 type Spi0 = hal::Spi<hal::spi::Enabled, pac::SPI0, SpiPins, 8>;
@@ -281,7 +249,7 @@ fn main() -> ! {
     }
     let depth: &'static mut Depth = cortex_m::singleton!(: Depth = [0; BAND_PIXELS]).expect("depth band");
 
-    let scene = Scene::new();
+    let scene = Scene::new(SUZANNE);
 
     // The display.
     let mut backlight = pins.gpio21.into_push_pull_output();
@@ -318,7 +286,7 @@ fn main() -> ! {
         #[cfg(not(feature = "dual-core"))]
         for band in 0..BANDS {
             let buf = pool.pop().expect("a free colour band");
-            scene.render(buf.0, depth, band, angle);
+            scene.render(&mut buf.0[..], &mut depth[..], (band * BAND_ROWS) as u16, angle);
             if let Some(sent) = display.present(buf, band) {
                 let _ = pool.push(sent);
             }
@@ -424,7 +392,7 @@ mod dual {
             let band = receive(&mut fifo) as usize;
             // SAFETY: core 0 sent this address with `into_raw` and forgot the buffer.
             let buf = unsafe { BandBuf::from_raw(receive(&mut fifo)) };
-            scene.render(buf.0, depth, band, angle);
+            scene.render(&mut buf.0[..], &mut depth[..], (band * BAND_ROWS) as u16, angle);
             send(&mut fifo, &[buf.into_raw()]);
         }
     }
@@ -457,7 +425,7 @@ mod dual {
             let mine = even.next();
             if let Some(band) = mine {
                 let buf = pool.pop().expect("a free colour band");
-                scene.render(buf.0, depth, band, angle);
+                scene.render(&mut buf.0[..], &mut depth[..], (band * BAND_ROWS) as u16, angle);
                 if let Some(sent) = display.present(buf, band) {
                     let _ = pool.push(sent);
                 }

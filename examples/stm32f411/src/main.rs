@@ -23,8 +23,7 @@ use cortex_m::peripheral::DWT;
 use cortex_m_rt::entry;
 use embedded_hal::delay::DelayNs;
 use panic_halt as _;
-use soft3d::math::Mat4;
-use soft3d::{reference, Band, Camera, FrameColor, Lights, Model, RenderOptions, Rgb565Be};
+use soft3d::Rgb565Be;
 use stm32f4xx_hal::dma::{config::DmaConfig, MemoryToPeripheral, Stream3, StreamsTuple, Transfer};
 use stm32f4xx_hal::gpio::{Output, Speed, PA2, PA3, PA4};
 use stm32f4xx_hal::pac;
@@ -78,39 +77,9 @@ unsafe impl embedded_dma::ReadBuffer for BandBuf {
     }
 }
 
-/// Everything needed to render a band.
-struct Scene {
-    model: Model<'static>,
-    camera: Camera,
-    lights: Lights<1>,
-    opts: RenderOptions,
-    background: Rgb565Be,
-}
-
-impl Scene {
-    fn new() -> Self {
-        let model = Model::parse(SUZANNE).expect("suzanne.s3d parses");
-        // The reference frame's camera and lights (soft3d::reference), as the QEMU firmware uses.
-        let (camera, lights) = (reference::camera(WIDTH, HEIGHT), reference::lights());
-        Scene { model, camera, lights, opts: reference::options(), background: Rgb565Be::from_rgb888([0, 0, 0]) }
-    }
-
-    /// Renders band `band` (0..BANDS) of the frame with Suzanne turned by `angle` radians.
-    fn render(&self, color: &mut Pixels, depth: &mut Depth, band: usize, angle: f32) {
-        let first_row = (band * BAND_ROWS) as u16;
-        let mut target =
-            Band::new(&mut color[..], &mut depth[..], WIDTH, HEIGHT, first_row).expect("band fits the frame");
-        target.clear(self.background);
-        soft3d::draw_model(
-            &mut target,
-            &self.model,
-            Mat4::from_rotation_y(angle),
-            &self.camera,
-            &self.lights,
-            &self.opts,
-        );
-    }
-}
+#[path = "../../common/board_scene.rs"]
+mod board_scene;
+use board_scene::Scene;
 
 type DmaStream = Stream3<pac::DMA2>;
 /// DMA2 stream 3, channel 3: SPI1_TX (RM0383 table 28).
@@ -259,7 +228,7 @@ fn main() -> ! {
     let mut next = BandBuf(cortex_m::singleton!(: Pixels = [Rgb565Be([0; 2]); BAND_PIXELS]).expect("colour band 1"));
     let depth: &'static mut Depth = cortex_m::singleton!(: Depth = [0; BAND_PIXELS]).expect("depth band");
 
-    let scene = Scene::new();
+    let scene = Scene::new(SUZANNE);
 
     // The display.
     let gpioa = dp.GPIOA.split(&mut rcc);
@@ -290,7 +259,7 @@ fn main() -> ! {
         let seconds = (cycles % (TURN_SECONDS as u64 * SYSCLK_HZ as u64)) as f32 / SYSCLK_HZ as f32;
         let angle = seconds * (TAU / TURN_SECONDS);
         for band in 0..BANDS {
-            scene.render(next.0, depth, band, angle);
+            scene.render(&mut next.0[..], &mut depth[..], (band * BAND_ROWS) as u16, angle);
             let sent = display.present(next, band);
             // The buffer just handed to the DMA comes back at the next `present`; meanwhile the
             // other one (free from the start, then the one whose transfer just finished) is
