@@ -732,7 +732,7 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
 }
 
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[inline(never)] // one stack frame per instantiation, live one at a time
 fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
     (window, subspan): (&Window, u32),
