@@ -39,6 +39,13 @@ pub fn tan(x: f32) -> f32 {
     libm::tanf(x)
 }
 
+/// `x` raised to `y` (libm).
+#[inline]
+#[must_use]
+pub fn powf(x: f32, y: f32) -> f32 {
+    libm::powf(x, y)
+}
+
 /// Largest integer value not greater than `x` (libm).
 #[inline]
 #[must_use]

@@ -118,6 +118,8 @@ const V_: usize = 1;
 const LIGHT: usize = 2;
 const NORMAL: usize = 2;
 const POSITION: usize = 5;
+/// Specular intensity (unlit/flat/Gouraud), added after the texture is lit.
+const SPECULAR: usize = 5;
 
 /// 1.0 in varying units.
 const ONE: f32 = 65536.0;
@@ -234,6 +236,7 @@ pub fn draw_model_sorted<C: FrameColor, const L: usize>(
 /// Per-frame constants shared by every draw.
 struct Context<'l, const L: usize> {
     vp: Mat4,
+    eye: Vec3,
     lights: &'l Lights<L>,
     pixel_lights: PixelLights<L>,
     opts: RenderOptions,
@@ -247,6 +250,7 @@ impl<'l, const L: usize> Context<'l, L> {
         let (w, h) = (band.width as f32, band.height as f32);
         Context {
             vp: camera.view_projection(),
+            eye: camera.eye,
             lights,
             pixel_lights: PixelLights::new(lights),
             opts: *opts,
@@ -539,9 +543,10 @@ fn vertex_varyings<const L: usize>(
     let world: [Vec3; 3] = core::array::from_fn(|k| (s.model_q * qv[k]).truncate());
     let normal = |k: usize| normalize_or_zero(s.normals * s.mesh.normal(idx[k]));
     let lights = ctx.lights;
-    // Light per vertex (unlit, flat, Gouraud) or nothing (Phong lights per pixel).
-    let lit: [Vec3; 3] = match ctx.opts.shading {
-        Shading::Unlit | Shading::Phong => [Vec3::ONE; 3],
+    let eye = ctx.eye;
+    // Light and specular per vertex (unlit, flat, Gouraud) or nothing (Phong lights per pixel).
+    let lit: [(Vec3, f32); 3] = match ctx.opts.shading {
+        Shading::Unlit | Shading::Phong => [(Vec3::ONE, 0.0); 3],
         Shading::Flat => {
             // Face normal from the world-space triangle. Front faces wind counter-clockwise as
             // seen (y up), and with +z pointing away from the viewer that makes
@@ -551,9 +556,13 @@ fn vertex_varyings<const L: usize>(
             if s.flip {
                 n = -n;
             }
-            [lights.at((p[0] + p[1] + p[2]) / 3.0, n); 3]
+            let centre = (p[0] + p[1] + p[2]) / 3.0;
+            [(lights.at(centre, n), lights.specular_at(centre, n, eye)); 3]
         }
-        Shading::Gouraud => core::array::from_fn(|k| lights.at(world[k], normal(k))),
+        Shading::Gouraud => core::array::from_fn(|k| {
+            let n = normal(k);
+            (lights.at(world[k], n), lights.specular_at(world[k], n, eye))
+        }),
     };
     let tex_size = sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * ONE, sm.height() as f32 * ONE));
     core::array::from_fn(|k| {
@@ -569,8 +578,9 @@ fn vertex_varyings<const L: usize>(
         } else {
             let c = s.mesh.color(idx[k]);
             for ch in 0..3 {
-                varyings[LIGHT + ch] = lit[k][ch] * (c[ch] as f32 / 255.0) * ONE;
+                varyings[LIGHT + ch] = lit[k].0[ch] * (c[ch] as f32 / 255.0) * ONE;
             }
+            varyings[SPECULAR] = lit[k].1 * ONE;
         }
         ClipVertex { pos: clip[k], varyings }
     })
@@ -624,15 +634,24 @@ impl Base for Sampler<'_> {
 trait Lighting {
     /// Light per channel in 16.16 (1.0 = 65536) from the pixel's varyings.
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3];
+    /// Colour added after lighting (specular highlight), 0..=255 per channel.
+    #[inline(always)]
+    fn highlight<const V: usize>(&self, _v: &[i32; V]) -> [u8; 3] {
+        [0; 3]
+    }
 }
 
-/// Light interpolated from the vertices (unlit, flat, Gouraud).
-struct Interpolated;
+/// Light interpolated from the vertices (unlit, flat, Gouraud), with the specular colour.
+struct Interpolated([u8; 3]);
 
 impl Lighting for Interpolated {
     #[inline(always)]
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
         [v[LIGHT], v[LIGHT + 1], v[LIGHT + 2]]
+    }
+    #[inline(always)]
+    fn highlight<const V: usize>(&self, v: &[i32; V]) -> [u8; 3] {
+        modulate(self.0, [v[SPECULAR]; 3])
     }
 }
 
@@ -643,8 +662,8 @@ impl<const L: usize> Lighting for PixelLights<L> {
     }
 }
 
-/// Varyings used without Phong: U, V and light red, green, blue.
-const VARYINGS_LIT: usize = 5;
+/// Varyings used without Phong: U, V, light red, green, blue, specular.
+const VARYINGS_LIT: usize = 6;
 
 /// Rasterizes one screen triangle, choosing the monomorphised inner loop once per triangle so
 /// the per-pixel loop never branches on modes.
@@ -663,12 +682,13 @@ fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     let cull = material.cull_back_faces;
     let pl = &ctx.pixel_lights;
     let raster = (&ctx.window, ctx.opts.subspan);
+    let spec = Interpolated(ctx.lights.specular.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8));
     let r = match (sampler, phong, dither) {
         (Some(t), false, false) => {
-            fragments::<_, _, _, _, VARYINGS_LIT, false>(band, raster, tri, cull, flip, t, &Interpolated, stats)
+            fragments::<_, _, _, _, VARYINGS_LIT, false>(band, raster, tri, cull, flip, t, &spec, stats)
         }
         (Some(t), false, true) => {
-            fragments::<_, _, _, _, VARYINGS_LIT, true>(band, raster, tri, cull, flip, t, &Interpolated, stats)
+            fragments::<_, _, _, _, VARYINGS_LIT, true>(band, raster, tri, cull, flip, t, &spec, stats)
         }
         (Some(t), true, false) => {
             fragments::<_, _, _, _, MAX_VARYINGS, false>(band, raster, tri, cull, flip, t, pl, stats)
@@ -677,10 +697,10 @@ fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
             fragments::<_, _, _, _, MAX_VARYINGS, true>(band, raster, tri, cull, flip, t, pl, stats)
         }
         (None, false, false) => {
-            fragments::<_, _, _, _, VARYINGS_LIT, false>(band, raster, tri, cull, flip, &diffuse, &Interpolated, stats)
+            fragments::<_, _, _, _, VARYINGS_LIT, false>(band, raster, tri, cull, flip, &diffuse, &spec, stats)
         }
         (None, false, true) => {
-            fragments::<_, _, _, _, VARYINGS_LIT, true>(band, raster, tri, cull, flip, &diffuse, &Interpolated, stats)
+            fragments::<_, _, _, _, VARYINGS_LIT, true>(band, raster, tri, cull, flip, &diffuse, &spec, stats)
         }
         (None, true, false) => {
             fragments::<_, _, _, _, MAX_VARYINGS, false>(band, raster, tri, cull, flip, &diffuse, pl, stats)
@@ -722,7 +742,9 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
     fn shade(&mut self, x: i32, y: i32, z: u32, v: &[i32; V]) {
         // A cut-out texel writes neither colour nor depth.
         let Some(rgb) = self.base.base(v[U], v[V_]) else { return };
-        let rgb = modulate(rgb, self.lighting.light(v));
+        let lit = modulate(rgb, self.lighting.light(v));
+        let extra = self.lighting.highlight(v);
+        let rgb: [u8; 3] = core::array::from_fn(|k| lit[k].saturating_add(extra[k]));
         if let Some(px) = self.color.get_mut(self.index) {
             *px = if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) };
             self.depth.store(self.index, z);

@@ -18,13 +18,18 @@ pub struct Lights<const N: usize> {
     pub ambient: Vec3,
     /// The lights.
     pub lights: Vec<Light, N>,
+    /// Blinn-Phong specular colour (0..=1 per channel), added on top of the lit texture; zero
+    /// (the default) turns specular off. Evaluated per vertex (flat: per face); not in Phong mode.
+    pub specular: Vec3,
+    /// Blinn-Phong exponent (Babylon's `specularPower`, default 64).
+    pub shininess: f32,
 }
 
 impl<const N: usize> Lights<N> {
     /// No lights and no ambient: everything lit renders black, so prefer [`Lights::from_model`].
     #[must_use]
     pub fn new(ambient: Vec3) -> Self {
-        Self { ambient, lights: Vec::new() }
+        Self { ambient, lights: Vec::new(), specular: Vec3::ZERO, shininess: 64.0 }
     }
 
     /// Adds a light; hands it back when all `N` places are taken.
@@ -62,6 +67,31 @@ impl<const N: usize> Lights<N> {
                 set.push(Light { kind: LightKind::Hemispheric, vector: Vec3::Y, diffuse: Vec3::ONE, intensity: 1.0 });
         }
         set
+    }
+
+    /// Blinn-Phong specular intensity at `p` with unit normal `n` seen from `eye`:
+    /// `Σ max(0, N·H)^shininess · intensity` with `H = normalize(L + V)` (0 when specular is
+    /// off). The colour is [`Lights::specular`].
+    #[must_use]
+    pub fn specular_at(&self, p: Vec3, n: Vec3, eye: Vec3) -> f32 {
+        if self.specular == Vec3::ZERO {
+            return 0.0;
+        }
+        let v = normalize_or_zero(eye - p);
+        let mut sum = 0.0;
+        for l in &self.lights {
+            let to_light = match l.kind {
+                LightKind::Directional => normalize_or_zero(-l.vector),
+                LightKind::Point => normalize_or_zero(l.vector - p),
+                // Sky light has no direction to reflect.
+                LightKind::Hemispheric => continue,
+            };
+            if n.dot(to_light) > 0.0 {
+                let h = normalize_or_zero(to_light + v);
+                sum += crate::math::powf(n.dot(h).max(0.0), self.shininess) * l.intensity;
+            }
+        }
+        sum.min(1.0)
     }
 
     /// Light reaching a surface at `p` with unit normal `n`, each channel clamped to 0..=1.
@@ -341,6 +371,23 @@ mod tests {
         // Non-power-of-two widths wrap too.
         let odd = Sampler::new(tex(&data[..12], 3, 1), Wrap::Repeat, Wrap::Repeat, Filter::Nearest);
         assert_eq!(odd.sample(-(1 << 16), 0)[0], 2);
+    }
+
+    #[test]
+    fn specular_peaks_on_the_mirror_direction() {
+        let mut lights = Lights::<1>::new(Vec3::ZERO);
+        lights.push(Lights::<1>::directional(Vec3::new(0.0, 0.0, 1.0), 1.0)).unwrap();
+        let eye = Vec3::new(0.0, 0.0, -5.0);
+        assert_eq!(lights.specular_at(Vec3::ZERO, -Vec3::Z, eye), 0.0, "off by default");
+        lights.specular = Vec3::ONE;
+        // Light from behind the eye, normal towards both: H = N, full highlight.
+        assert!((lights.specular_at(Vec3::ZERO, -Vec3::Z, eye) - 1.0).abs() < 1e-6);
+        // Light and eye both along -z, so H = -z; a normal tilted 30 degrees gives cos(30°)^64.
+        let n = Vec3::new(0.5, 0.0, -0.75f32.sqrt());
+        let want = libm::powf(libm::cosf(30f32.to_radians()), 64.0);
+        assert!((lights.specular_at(Vec3::ZERO, n, eye) - want).abs() < 1e-4);
+        // Facing away from the light: none.
+        assert_eq!(lights.specular_at(Vec3::ZERO, Vec3::Z, eye), 0.0);
     }
 
     #[test]

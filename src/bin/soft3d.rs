@@ -162,6 +162,9 @@ struct RenderArgs {
     /// Pixel format rendered into (the PNG shows it widened back to 8 bits).
     #[arg(long, value_enum, default_value_t = PixelFormat::Rgb888)]
     format: PixelFormat,
+    /// Blinn-Phong specular highlights (per vertex) with this exponent, e.g. 64.
+    #[arg(long)]
+    specular: Option<f32>,
     /// Ordered dithering when the pixel format has fewer than 8 bits per channel.
     #[arg(long)]
     dither: bool,
@@ -389,6 +392,10 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
             };
             lights.push(light).map_err(|_| "--light: at most 8 lights".to_string())?;
         }
+    }
+    if let Some(power) = args.specular {
+        lights.specular = Vec3::ONE;
+        lights.shininess = power;
     }
     let opts = RenderOptions {
         shading: match args.shading {
