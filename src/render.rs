@@ -641,13 +641,23 @@ trait Lighting {
     }
 }
 
-/// Light interpolated from the vertices (unlit, flat, Gouraud), with the specular colour.
-struct Interpolated([u8; 3]);
+/// Light interpolated from the vertices (unlit, flat, Gouraud).
+struct Interpolated;
 
 impl Lighting for Interpolated {
     #[inline(always)]
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
         [v[LIGHT], v[LIGHT + 1], v[LIGHT + 2]]
+    }
+}
+
+/// [`Interpolated`] plus an interpolated specular intensity of this colour.
+struct Specular([u8; 3]);
+
+impl Lighting for Specular {
+    #[inline(always)]
+    fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
+        Interpolated.light(v)
     }
     #[inline(always)]
     fn highlight<const V: usize>(&self, v: &[i32; V]) -> [u8; 3] {
@@ -662,9 +672,6 @@ impl<const L: usize> Lighting for PixelLights<L> {
     }
 }
 
-/// Varyings used without Phong: U, V, light red, green, blue, specular.
-const VARYINGS_LIT: usize = 6;
-
 /// Rasterizes one screen triangle, choosing the monomorphised inner loop once per triangle so
 /// the per-pixel loop never branches on modes.
 fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
@@ -676,43 +683,71 @@ fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     sampler: Option<&Sampler<'_>>,
     stats: &mut Stats,
 ) {
-    let diffuse = Diffuse([material.rgba[0], material.rgba[1], material.rgba[2]]);
-    let phong = ctx.opts.shading == Shading::Phong;
-    let dither = ctx.opts.dither;
-    let cull = material.cull_back_faces;
-    let pl = &ctx.pixel_lights;
-    let raster = (&ctx.window, ctx.opts.subspan);
-    let spec = Interpolated(ctx.lights.specular.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8));
-    let r = match (sampler, phong, dither) {
-        (Some(t), false, false) => {
-            fragments::<_, _, _, _, VARYINGS_LIT, false>(band, raster, tri, cull, flip, t, &spec, stats)
-        }
-        (Some(t), false, true) => {
-            fragments::<_, _, _, _, VARYINGS_LIT, true>(band, raster, tri, cull, flip, t, &spec, stats)
-        }
-        (Some(t), true, false) => {
-            fragments::<_, _, _, _, MAX_VARYINGS, false>(band, raster, tri, cull, flip, t, pl, stats)
-        }
-        (Some(t), true, true) => {
-            fragments::<_, _, _, _, MAX_VARYINGS, true>(band, raster, tri, cull, flip, t, pl, stats)
-        }
-        (None, false, false) => {
-            fragments::<_, _, _, _, VARYINGS_LIT, false>(band, raster, tri, cull, flip, &diffuse, &spec, stats)
-        }
-        (None, false, true) => {
-            fragments::<_, _, _, _, VARYINGS_LIT, true>(band, raster, tri, cull, flip, &diffuse, &spec, stats)
-        }
-        (None, true, false) => {
-            fragments::<_, _, _, _, MAX_VARYINGS, false>(band, raster, tri, cull, flip, &diffuse, pl, stats)
-        }
-        (None, true, true) => {
-            fragments::<_, _, _, _, MAX_VARYINGS, true>(band, raster, tri, cull, flip, &diffuse, pl, stats)
+    let r = match sampler {
+        Some(t) => fill_with(band, ctx, flip, tri, material, t, stats),
+        None => {
+            let diffuse = Diffuse([material.rgba[0], material.rgba[1], material.rgba[2]]);
+            fill_with(band, ctx, flip, tri, material, &diffuse, stats)
         }
     };
     match r {
         Ok(()) => stats.drawn += 1,
         Err(r) => count_reject(r, stats),
     }
+}
+
+/// [`fill`] for one base colour source: picks the lighting and dithering variant.
+fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    flip: bool,
+    tri: &[ScreenVertex; 3],
+    material: &Material,
+    base: &B,
+    stats: &mut Stats,
+) -> Result<(), Reject> {
+    let raster = (&ctx.window, ctx.opts.subspan);
+    let cull = material.cull_back_faces;
+    let specular = ctx.lights.specular.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
+    let pl = &ctx.pixel_lights;
+    let lit = if ctx.opts.shading == Shading::Phong {
+        LitBy::Pixel
+    } else if specular != [0; 3] {
+        LitBy::VertexAndSpecular
+    } else {
+        LitBy::Vertex
+    };
+    match (lit, ctx.opts.dither) {
+        (LitBy::Vertex, false) => {
+            fragments::<_, _, _, _, 5, false>(band, raster, tri, cull, flip, base, &Interpolated, stats)
+        }
+        (LitBy::Vertex, true) => {
+            fragments::<_, _, _, _, 5, true>(band, raster, tri, cull, flip, base, &Interpolated, stats)
+        }
+        (LitBy::VertexAndSpecular, false) => {
+            fragments::<_, _, _, _, 6, false>(band, raster, tri, cull, flip, base, &Specular(specular), stats)
+        }
+        (LitBy::VertexAndSpecular, true) => {
+            fragments::<_, _, _, _, 6, true>(band, raster, tri, cull, flip, base, &Specular(specular), stats)
+        }
+        (LitBy::Pixel, false) => {
+            fragments::<_, _, _, _, MAX_VARYINGS, false>(band, raster, tri, cull, flip, base, pl, stats)
+        }
+        (LitBy::Pixel, true) => {
+            fragments::<_, _, _, _, MAX_VARYINGS, true>(band, raster, tri, cull, flip, base, pl, stats)
+        }
+    }
+}
+
+/// Which [`Lighting`] a triangle uses (and so how many varyings it interpolates).
+#[derive(Clone, Copy)]
+enum LitBy {
+    /// Light per vertex: U, V, light red, green, blue.
+    Vertex,
+    /// The same plus a specular intensity.
+    VertexAndSpecular,
+    /// Phong: normal and position per pixel.
+    Pixel,
 }
 
 /// The per-pixel work for one triangle: depth test, base colour (alpha test), light, store.
@@ -742,9 +777,11 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
     fn shade(&mut self, x: i32, y: i32, z: u32, v: &[i32; V]) {
         // A cut-out texel writes neither colour nor depth.
         let Some(rgb) = self.base.base(v[U], v[V_]) else { return };
-        let lit = modulate(rgb, self.lighting.light(v));
+        let mut rgb = modulate(rgb, self.lighting.light(v));
         let extra = self.lighting.highlight(v);
-        let rgb: [u8; 3] = core::array::from_fn(|k| lit[k].saturating_add(extra[k]));
+        if extra != [0; 3] {
+            rgb = core::array::from_fn(|k| rgb[k].saturating_add(extra[k]));
+        }
         if let Some(px) = self.color.get_mut(self.index) {
             *px = if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) };
             self.depth.store(self.index, z);
@@ -754,7 +791,7 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
 }
 
 #[allow(clippy::too_many_arguments)]
-#[inline(never)] // one stack frame per instantiation, live one at a time
+#[inline(always)]
 fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
     (window, subspan): (&Window, u32),
