@@ -45,13 +45,6 @@ const XTAL_FREQ_HZ: u32 = 12_000_000;
 /// ST7789's 16 ns minimum write cycle.
 const SPI_HZ: u32 = 62_500_000;
 
-const WIDTH: u16 = 240;
-const HEIGHT: u16 = 240;
-/// Bands per frame.
-const BANDS: usize = 8;
-const BAND_ROWS: usize = HEIGHT as usize / BANDS;
-const BAND_PIXELS: usize = WIDTH as usize * BAND_ROWS;
-const _: () = assert!(BAND_ROWS * BANDS == HEIGHT as usize, "BANDS must divide HEIGHT");
 /// One full turn every this many microseconds, whatever the frame rate.
 const TURN_US: u64 = 8_000_000;
 
@@ -62,52 +55,14 @@ const COLOR_BUFFERS: usize = 2;
 #[cfg(feature = "dual-core")]
 const COLOR_BUFFERS: usize = 4;
 
-type Pixels = [Rgb565Be; BAND_PIXELS];
-type Depth = [u16; BAND_PIXELS];
-
-// `Rgb565Be` is a one-field struct around `[u8; 2]`. Its size being exactly 2 means the field
-// fills it (offset 0, no padding), and alignment 1 means a `[Rgb565Be; N]` is exactly the
-// `2 * N` bytes of the pixels in order: what the DMA reads in `BandBuf::read_buffer`.
-const _: () = assert!(core::mem::size_of::<Rgb565Be>() == 2 && core::mem::align_of::<Rgb565Be>() == 1);
-
-/// A colour band buffer, owned: whoever holds this value is the only one touching the pixels
-/// (the renderer, the DMA engine, or the other core).
-struct BandBuf(&'static mut Pixels);
-
-// SAFETY: the pointer and length describe `self.0`, a `'static` array of `BAND_PIXELS` pixels
-// of 2 bytes each (asserted above), i.e. `2 * BAND_PIXELS` initialised bytes. The array does
-// not move when the `BandBuf` moves, it is never freed, and nothing else can touch it while
-// the DMA transfer owns the `BandBuf` (it is a unique `&'static mut`).
-unsafe impl embedded_dma::ReadBuffer for BandBuf {
-    type Word = u8;
-
-    unsafe fn read_buffer(&self) -> (*const u8, usize) {
-        (self.0.as_ptr().cast::<u8>(), core::mem::size_of::<Pixels>())
-    }
-}
-
-#[path = "../../common/board_scene.rs"]
-mod board_scene;
-use board_scene::Scene;
+#[path = "../../common/board.rs"]
+mod board;
+use board::{cmd, BandBuf, Depth, Pixels, Scene, BANDS, BAND_PIXELS, BAND_ROWS, WIDTH};
 
 type SpiPins = (Pin<Gpio19, FunctionSpi, PullDown>, Pin<Gpio18, FunctionSpi, PullDown>);
 type Spi0 = hal::Spi<hal::spi::Enabled, pac::SPI0, SpiPins, 8>;
 type DmaCh = hal::dma::Channel<hal::dma::CH0>;
 type OutPin<I> = Pin<I, FunctionSio<SioOutput>, PullDown>;
-
-/// ST7789 commands used here (datasheet section 9.1).
-mod cmd {
-    pub const SWRESET: u8 = 0x01;
-    pub const SLPOUT: u8 = 0x11;
-    pub const NORON: u8 = 0x13;
-    pub const INVON: u8 = 0x21;
-    pub const DISPON: u8 = 0x29;
-    pub const CASET: u8 = 0x2A;
-    pub const RASET: u8 = 0x2B;
-    pub const RAMWR: u8 = 0x2C;
-    pub const MADCTL: u8 = 0x36;
-    pub const COLMOD: u8 = 0x3A;
-}
 
 /// A minimal ST7789 driver: init, address window, and band transfers by DMA.
 ///
