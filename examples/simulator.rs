@@ -269,7 +269,7 @@ fn run(args: &Args) -> Result<(), String> {
     let model = Model::parse(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
     let tutorial = args.scene.is_none();
     // Suzanne sits at the origin; other scenes turn about the centre of their bounds.
-    let pivot = if tutorial { Vec3::ZERO } else { bounds(&model).map_or(Vec3::ZERO, |(c, _)| c) };
+    let pivot = if tutorial { Vec3::ZERO } else { model.bounds().map_or(Vec3::ZERO, |(c, _)| c) };
     let scene = Scene { camera: camera(&model, tutorial, args.fit)?, lights: lights(&model), pivot, model };
     let mut opts = RenderOptions { dither: args.dither, ..RenderOptions::default() };
     opts.filter = if args.bilinear { Filter::Bilinear } else { Filter::Nearest };
@@ -330,24 +330,10 @@ fn camera(model: &Model<'_>, tutorial_scene: bool, fit: bool) -> Result<Camera, 
     camera.map_err(|e| e.to_string())
 }
 
-/// Centre and radius of a sphere around every mesh's (world-space) bounding sphere.
-fn bounds(model: &Model<'_>) -> Option<(Vec3, f32)> {
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for (mesh, world) in model.draws() {
-        let (c, r) = mesh.bounding_sphere();
-        let scale =
-            [world.x_axis, world.y_axis, world.z_axis].iter().map(|a| a.truncate().length()).fold(0.0f32, f32::max);
-        let c = world.transform_point3(c);
-        lo = lo.min(c - Vec3::splat(r * scale));
-        hi = hi.max(c + Vec3::splat(r * scale));
-    }
-    (lo.is_finite() && hi.is_finite()).then(|| ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-3)))
-}
-
 /// Eye, target and far distance for a camera showing the whole model at every angle of a turn
 /// about its centre.
 fn framing(model: &Model<'_>) -> (Vec3, Vec3, f32) {
-    match bounds(model) {
+    match model.bounds() {
         Some((centre, radius)) => {
             (centre + Vec3::new(0.0, 0.3, -1.0).normalize() * radius * 2.6, centre, radius * 10.0)
         }

@@ -108,20 +108,7 @@ impl Camera {
     /// # Errors
     /// [`CameraError`] when the model has no finite bounds or the projection values are bad.
     pub fn framing(model: &Model<'_>, fov_y: f32, aspect: f32) -> Result<Self, CameraError> {
-        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for (mesh, world) in model.draws() {
-            let (c, r) = mesh.bounding_sphere();
-            let scale =
-                [world.x_axis, world.y_axis, world.z_axis].iter().map(|a| a.truncate().length()).fold(0.0, f32::max);
-            let c = world.transform_point3(c);
-            lo = lo.min(c - Vec3::splat(r * scale));
-            hi = hi.max(c + Vec3::splat(r * scale));
-        }
-        if !lo.is_finite() || !hi.is_finite() {
-            return Err(CameraError::BadLookAt);
-        }
-        let centre = (lo + hi) * 0.5;
-        let radius = ((hi - lo) * 0.5).length().max(1e-3);
+        let (centre, radius) = model.bounds().ok_or(CameraError::BadLookAt)?;
         // Far enough that the bounding sphere fits the vertical field of view.
         let distance = radius / crate::math::sin(fov_y * 0.5).max(1e-3);
         let eye = centre + Vec3::new(0.0, 0.3, -1.0).normalize() * distance;

@@ -764,6 +764,21 @@ impl<'a> Model<'a> {
         own.chain(inst)
     }
 
+    /// World-space sphere `(centre, radius)` around every draw's bounding sphere, or `None`
+    /// when the model has nothing finite to draw.
+    #[must_use]
+    pub fn bounds(&self) -> Option<(Vec3, f32)> {
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for (mesh, world) in self.draws() {
+            let (c, r) = mesh.bounding_sphere();
+            let r = Vec3::splat(r * crate::math::max_axis_scale(&world));
+            let c = world.transform_point3(c);
+            lo = lo.min(c - r);
+            hi = hi.max(c + r);
+        }
+        (lo.is_finite() && hi.is_finite()).then(|| ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-3)))
+    }
+
     /// Number of lights.
     #[must_use]
     pub fn light_count(&self) -> usize {

@@ -53,6 +53,14 @@ pub fn floor(x: f32) -> f32 {
     libm::floorf(x)
 }
 
+/// The largest factor by which `m` stretches any direction's length, bounded by its largest
+/// column (axis) length: what a bounding sphere's radius is multiplied by.
+#[inline]
+#[must_use]
+pub fn max_axis_scale(m: &Mat4) -> f32 {
+    [m.x_axis, m.y_axis, m.z_axis].iter().map(|a| a.truncate().length()).fold(0.0, f32::max)
+}
+
 /// `v / |v|`, or zero for a zero or non-finite vector.
 #[inline]
 #[must_use]

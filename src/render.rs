@@ -431,8 +431,7 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
 /// Whether a local-space bounding sphere, placed by `world`, may be inside the view frustum.
 fn sphere_visible(vp: &Mat4, world: &Mat4, (centre, radius): (Vec3, f32)) -> bool {
     let c = world.transform_point3(centre);
-    let scale = [world.x_axis, world.y_axis, world.z_axis].iter().map(|a| a.truncate().length()).fold(0.0f32, f32::max);
-    let r = radius * scale;
+    let r = radius * crate::math::max_axis_scale(world);
     let rows = [vp.row(0), vp.row(1), vp.row(2), vp.row(3)];
     let planes = [
         rows[3] + rows[0],

@@ -1,30 +1,9 @@
 //! The `.s3d` format: every asset converts, emit and parse agree, bad bytes are rejected.
 use proptest::prelude::*;
-use soft3d::convert::scene::Scene;
-use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
 use soft3d::format::{emit, to_scene, EmitOptions, Model, ParseError, Part, TextureChoice, TextureFormat};
 
-const ASSETS: &[&str] = &[
-    "suzanne/monkey.babylon",
-    "blender-legacy/blender.babylon",
-    "blender-split/blender.babylon",
-    "teapot/teapot.babylon",
-    "tree/tree.babylon",
-    "double-sided/DoubleSidedMaterial.babylon",
-    "instances/Instances.babylon",
-    "opaque/Opaque.babylon",
-    "opaque/Opaque.binary.babylon",
-    "shapekey/shapekeyAnimation.babylon",
-];
-
-fn asset(rel: &str) -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(rel)
-}
-
-fn scene(rel: &str) -> Scene {
-    let origin = if rel.starts_with("suzanne") { UvOrigin::Top } else { UvOrigin::Bottom };
-    read_babylon_file(&asset(rel), &ConvertOptions { uv_origin: origin, ..Default::default() }).unwrap().0
-}
+mod common;
+use common::{asset, scene, ASSETS};
 
 /// Touches every accessor of every record: must never panic on a parsed model.
 fn walk(model: &Model<'_>) -> u64 {
