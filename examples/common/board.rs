@@ -60,6 +60,17 @@ pub mod cmd {
     pub const COLMOD: u8 = 0x3A;
 }
 
+/// The ST7789 start-up after its hardware reset: `(command, parameters, then wait ms)`.
+pub const INIT: &[(u8, &[u8], u32)] = &[
+    (cmd::SWRESET, &[], 150),
+    (cmd::SLPOUT, &[], 120),   // 5 ms before the next command, 120 ms before any SLPIN
+    (cmd::COLMOD, &[0x55], 0), // 65k colours, 16 bits a pixel
+    (cmd::MADCTL, &[0x00], 0), // top to bottom, left to right, RGB order
+    (cmd::INVON, &[], 0),
+    (cmd::NORON, &[], 10),
+    (cmd::DISPON, &[], 10),
+];
+
 /// Everything needed to render a band.
 #[derive(Clone)]
 pub struct Scene {

@@ -95,17 +95,10 @@ impl Display {
         let _ = rst.set_high();
         delay.delay_ms(120); // reset cancel, up to 120 ms
         let mut d = Display { idle: Some((ch, spi)), busy: None, dc, cs };
-        d.command(cmd::SWRESET, &[]);
-        delay.delay_ms(150);
-        d.command(cmd::SLPOUT, &[]);
-        delay.delay_ms(120); // 5 ms before the next command, 120 ms before any SLPIN
-        d.command(cmd::COLMOD, &[0x55]); // 65k colours, 16 bits a pixel
-        d.command(cmd::MADCTL, &[0x00]); // top to bottom, left to right, RGB order
-        d.command(cmd::INVON, &[]);
-        d.command(cmd::NORON, &[]);
-        delay.delay_ms(10);
-        d.command(cmd::DISPON, &[]);
-        delay.delay_ms(10);
+        for &(command, params, wait_ms) in board::INIT {
+            d.command(command, params);
+            delay.delay_ms(wait_ms);
+        }
         d
     }
 
