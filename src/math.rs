@@ -46,6 +46,26 @@ pub fn powf(x: f32, y: f32) -> f32 {
     libm::powf(x, y)
 }
 
+/// `x` rounded to the nearest integer, halves away from zero (libm).
+#[inline]
+#[must_use]
+pub fn round(x: f32) -> f32 {
+    libm::roundf(x)
+}
+
+/// `floor(x) as i32` (saturating; NaN gives 0) without a float `floor`, which Cortex-M4F's
+/// FPU lacks: truncate, then step down where truncation went up.
+#[inline]
+#[must_use]
+pub fn floor_to_i32(x: f32) -> i32 {
+    let t = x as i32;
+    if (t as f32) > x {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
+}
+
 /// Largest integer value not greater than `x` (libm).
 #[inline]
 #[must_use]
@@ -135,6 +155,18 @@ pub fn normal_matrix(m: &Mat4) -> Mat3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn floor_to_i32_is_floor() {
+        for x in [
+            0.0f32, -0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5, 1e-30, -1e-30, 8388607.5, -8388607.5, 3e9, -3e9, 1e30, -1e30,
+        ] {
+            assert_eq!(floor_to_i32(x), floor(x) as i32, "{x}");
+        }
+        assert_eq!(floor_to_i32(f32::NAN), 0);
+        assert_eq!(floor_to_i32(f32::INFINITY), i32::MAX);
+        assert_eq!(floor_to_i32(f32::NEG_INFINITY), i32::MIN);
+    }
 
     #[test]
     fn babylon_rotation_y_matches_spec() {

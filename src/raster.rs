@@ -17,7 +17,10 @@
 //! - Varyings (texture coordinates, light, normals) are `i32` with 16 fractional bits,
 //!   interpolated with perspective-correct barycentrics `b_i = (E_i/w_i) / Σ(E_j/w_j)` computed
 //!   exactly every `subspan` pixels along a span and linearly in between (`subspan = 1`: every
-//!   pixel exact).
+//!   pixel exact), or from one affine plane per varying when the triangle's depth range makes
+//!   that provably as good as a chosen tolerance ([`Setup::allow_affine`]).
+//! - Pixels reach the shader as [`Span`]s: a run of pixels on one row with a first value and a
+//!   per-pixel step for depth and every varying, so the per-pixel loop only adds.
 //!
 //! Every value here is a function of the triangle and the pixel only, never of the band being
 //! drawn, so a frame drawn in bands is bit-identical to the frame drawn whole.
@@ -138,6 +141,12 @@ pub struct Setup<const V: usize> {
     v0: [i32; V],
     d1: [i32; V],
     d2: [i32; V],
+    /// Twice the triangle's area in 1/256 pixel², positive.
+    area: i64,
+    /// Affine varyings when allowed (see [`Setup::allow_affine`]).
+    affine: Option<Planes<V>>,
+    /// Four times the tolerance of each varying (0: exact at every pixel).
+    tolerance: [f32; V],
 }
 
 /// Result of [`Setup::new`] when nothing is to be drawn.
@@ -252,6 +261,9 @@ impl<const V: usize> Setup<V> {
             v0,
             d1,
             d2,
+            area,
+            affine: None,
+            tolerance: [0.0; V],
         })
     }
 
@@ -261,9 +273,10 @@ impl<const V: usize> Setup<V> {
         (self.y0, self.y1)
     }
 
-    /// Perspective-correct varyings where the edge functions are `e` (all >= 0).
+    /// Perspective-correct varyings where the edge functions are `e` (all >= 0), and
+    /// `Σ E_k/w_k` there (proportional to the pixel's `1/w`).
     #[inline(always)]
-    fn varyings_at(&self, e: [i32; 3]) -> [i32; V] {
+    fn varyings_at(&self, e: [i32; 3]) -> ([i32; V], u64) {
         // Full-precision weights E_k · (1/w_k): truncating E first loses the far vertices'
         // weights when the near one is magnified by a large depth ratio.
         let n = |k: usize| e[k].max(0) as u64 * self.inv_w[k] as u64;
@@ -271,7 +284,7 @@ impl<const V: usize> Setup<V> {
         let sum = n(0) + n1 + n2;
         let mut out = self.v0;
         if sum == 0 {
-            return out;
+            return (out, sum);
         }
         // Bring the denominator below 2^16 so that (numerator << 16) fits in u32.
         let s = (64 - sum.leading_zeros()).saturating_sub(16);
@@ -282,7 +295,43 @@ impl<const V: usize> Setup<V> {
             let delta = d1 as i64 * b1 as i64 + d2 as i64 * b2 as i64;
             *o = o.wrapping_add((delta >> 16) as i32);
         }
-        out
+        (out, sum)
+    }
+
+    /// Whether stepping linearly from `(a, qa)` to `(b, qb)` (exact varyings and `1/w` weights
+    /// at a segment's ends) stays within the tolerance: the same bound as for the whole
+    /// triangle (see [`Setup::allow_affine`]), for a segment of one row.
+    #[inline]
+    fn linear_within(&self, (a, qa): &([i32; V], u64), (b, qb): &([i32; V], u64)) -> bool {
+        let ratio = qa.abs_diff(*qb) as f32 / (*qa).min(*qb).max(1) as f32;
+        (0..V).all(|k| (b[k].wrapping_sub(a[k]) as f32).abs() * ratio <= self.tolerance[k])
+    }
+
+    /// Allows affine (screen-linear) varyings when that is provably within `tolerance[k]`
+    /// units of the perspective-correct value for every varying `k`; see [`Setup::is_affine`].
+    ///
+    /// With screen-space barycentrics `b_i` and `q_i = 1/w_i`, the perspective-correct value
+    /// minus the affine one is `Σ b_i (v_i - c)(q_i/Q - 1)` for any constant `c`, where
+    /// `Q = Σ b_i q_i`; taking `c` mid-range bounds it by `range(v) · (q_max - q_min) / (4 Q)`.
+    /// So when `range(v_k) · (q_max/q_min - 1) <= 4 · tolerance[k]` for every `k`, the whole
+    /// triangle is drawn from one plane per varying, with no division per pixel or per row.
+    pub fn allow_affine(&mut self, tolerance: [u32; V]) {
+        let q_min = self.inv_w.iter().min().copied().unwrap_or(1) as f32;
+        let q_max = self.inv_w.iter().max().copied().unwrap_or(1) as f32;
+        let ratio = (q_max - q_min) / q_min;
+        let within = (0..V).all(|k| {
+            let (d1, d2) = (self.d1[k] as f32, self.d2[k] as f32);
+            let range = d1.max(d2).max(0.0) - d1.min(d2).min(0.0);
+            range * ratio <= 4.0 * tolerance[k] as f32
+        });
+        self.affine = within.then(|| Planes::new(&self.edges, self.area, &self.v0, &self.d1, &self.d2));
+        self.tolerance = tolerance.map(|t| 4.0 * t as f32);
+    }
+
+    /// Whether varyings are interpolated affinely (see [`Setup::allow_affine`]).
+    #[must_use]
+    pub fn is_affine(&self) -> bool {
+        self.affine.is_some()
     }
 
     /// Calls `pixel(x, y, z, varyings)` for every covered pixel centre in the window, row by
@@ -304,90 +353,187 @@ impl<const V: usize> Setup<V> {
         self.for_each_fragment(subspan, &mut All(pixel));
     }
 
-    /// Like [`Setup::for_each_pixel`], but asks `f.test` (the depth test) first, so that with
-    /// `subspan == 1` a hidden pixel costs no perspective division.
+    /// Like [`Setup::for_each_pixel`], but asks `f.test` (the depth test) first and calls
+    /// `f.shade` only for the pixels that pass.
     #[inline]
     pub fn for_each_fragment(&self, subspan: u32, f: &mut impl Fragment<V>) {
+        struct Pixels<'f, F>(&'f mut F);
+        impl<F: Fragment<V>, const V: usize> SpanSink<V> for Pixels<'_, F> {
+            #[inline(always)]
+            fn span(&mut self, s: &Span<V>) {
+                let (mut z, mut v) = (s.z, s.v);
+                for x in s.x..s.x + s.len as i32 {
+                    if self.0.test(x, s.y, z) {
+                        self.0.shade(x, s.y, z, &v);
+                    }
+                    z = z.wrapping_add_signed(s.dz);
+                    for (v, dv) in v.iter_mut().zip(s.dv) {
+                        *v = v.wrapping_add(dv);
+                    }
+                }
+            }
+        }
+        self.for_each_span(subspan, &mut Pixels(f));
+    }
+
+    /// Hands every covered run of pixels to `sink` as [`Span`]s, row by row, left to right:
+    /// one span per row when the triangle [`is_affine`](Setup::is_affine), else one per
+    /// `subspan` (>= 1) pixels with exact perspective-correct varyings at its first pixel.
+    #[inline]
+    pub fn for_each_span(&self, subspan: u32, sink: &mut impl SpanSink<V>) {
         let subspan = subspan.max(1) as i32;
-        let width = self.x1 - self.x0;
         for y in self.y0..=self.y1 {
             // Rows are measured from the origin row in frame coordinates (see `new`).
             let dy = y - self.origin_row;
-            let mut lo = 0;
-            let mut hi = width;
-            for e in &self.edges {
-                match e.span(dy, lo, hi) {
-                    Some((l, h)) => {
-                        lo = l;
-                        hi = h;
-                    }
-                    None => {
-                        lo = 1;
-                        hi = 0;
-                    }
-                }
-            }
-            if lo > hi {
-                continue;
-            }
-            let mut e: [i32; 3] = core::array::from_fn(|k| {
+            let Some((lo, hi)) = self.row_span(dy) else { continue };
+            let e: [i32; 3] = core::array::from_fn(|k| {
                 let edge = &self.edges[k];
                 edge.c + edge.b * 16 * dy + edge.a * 16 * lo
             });
-            let step_e: [i32; 3] = core::array::from_fn(|k| self.edges[k].a * 16);
-            let mut z = self.z_origin + self.z_dx * lo as i64 + self.z_dy * dy as i64;
-            let depth = |z: i64| (z >> 10).clamp(0, 1 << 30) as u32;
-            if subspan == 1 {
-                // Exact: every pixel gets its own perspective division, after the depth test.
-                for x in lo..=hi {
-                    let zq = depth(z);
-                    if f.test(self.x0 + x, y, zq) {
-                        f.shade(self.x0 + x, y, zq, &self.varyings_at(e));
-                    }
-                    z += self.z_dx;
-                    for k in 0..3 {
-                        e[k] += step_e[k];
-                    }
-                }
+            let z = self.z_origin + self.z_dx * lo as i64 + self.z_dy * dy as i64;
+            if let Some(p) = &self.affine {
+                let (v, dv) = p.at(lo, dy);
+                self.emit(sink, y, lo, hi + 1, z, v, dv);
                 continue;
             }
-            let e_at = |x: i32| -> [i32; 3] { core::array::from_fn(|k| e[k] + step_e[k] * (x - lo)) };
+            let e_at = |x: i32| -> [i32; 3] { core::array::from_fn(|k| e[k] + self.edges[k].a * 16 * (x - lo)) };
+            let exact = |x: i32| self.varyings_at(e_at(x));
+            let adaptive = subspan == 1 && self.tolerance.iter().any(|&t| t > 0.0);
             let mut xs = lo;
-            let mut vs = self.varyings_at(e_at(xs));
-            loop {
+            let mut start = exact(xs);
+            while xs <= hi {
+                let z = z + self.z_dx * (xs - lo) as i64;
                 if xs == hi {
-                    let zq = depth(z);
-                    if f.test(self.x0 + xs, y, zq) {
-                        f.shade(self.x0 + xs, y, zq, &vs);
-                    }
+                    // The last pixel of the span on its own.
+                    self.emit(sink, y, xs, xs + 1, z, start.0, [0; V]);
                     break;
                 }
-                let xe = (xs + subspan).min(hi);
-                let ve = self.varyings_at(e_at(xe));
+                // The segment's far end: `subspan` pixels on, or (adaptive) the farthest point,
+                // halving the distance, up to which linear steps are provably close enough.
+                let mut xe = if adaptive { hi } else { (xs + subspan).min(hi) };
+                let mut end = exact(xe);
+                while adaptive && xe > xs + 1 && !self.linear_within(&start, &end) {
+                    xe = xs + (xe - xs) / 2;
+                    end = exact(xe);
+                }
                 let len = xe - xs;
-                let mut step = [0i32; V];
-                for k in 0..V {
-                    let diff = ve[k].wrapping_sub(vs[k]);
-                    step[k] = if len == subspan && subspan.count_ones() == 1 {
+                let step = core::array::from_fn(|k| {
+                    let diff = end.0[k].wrapping_sub(start.0[k]);
+                    if len == subspan && subspan.count_ones() == 1 {
                         diff >> subspan.trailing_zeros()
                     } else {
                         diff / len
-                    };
-                }
-                let mut cur = vs;
-                for x in xs..xe {
-                    let zq = depth(z);
-                    if f.test(self.x0 + x, y, zq) {
-                        f.shade(self.x0 + x, y, zq, &cur);
                     }
-                    z += self.z_dx;
-                    for k in 0..V {
-                        cur[k] = cur[k].wrapping_add(step[k]);
-                    }
+                });
+                if adaptive && xe == hi {
+                    // Within tolerance up to the span's end: its last pixel steps there too.
+                    self.emit(sink, y, xs, xe + 1, z, start.0, step);
+                    break;
                 }
+                self.emit(sink, y, xs, xe, z, start.0, step);
                 xs = xe;
-                vs = ve;
+                start = end;
             }
         }
+    }
+
+    /// Columns `lo..=hi` (relative to `x0`) covered on the row `dy` below the origin row.
+    #[inline(always)]
+    fn row_span(&self, dy: i32) -> Option<(i32, i32)> {
+        let (mut lo, mut hi) = (0, self.x1 - self.x0);
+        for e in &self.edges {
+            (lo, hi) = e.span(dy, lo, hi)?;
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+
+    /// Sends columns `xs..xe` (relative to `x0`) of row `y` to `sink`, with depth `z` (24.40)
+    /// at `xs`. Depth is stepped in 2.30; where float rounding at setup lets the stepped depth
+    /// leave 0..=2^30 (triangles touching the near or far plane), pixels go one by one, clamped.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn emit(&self, sink: &mut impl SpanSink<V>, y: i32, xs: i32, xe: i32, z: i64, v: [i32; V], dv: [i32; V]) {
+        let (len, dz) = (xe - xs, (self.z_dx >> 10) as i32);
+        let first = z >> 10;
+        let last = first + dz as i64 * (len - 1) as i64;
+        let x = self.x0 + xs;
+        if (0..=Z_MAX).contains(&first) && (0..=Z_MAX).contains(&last) {
+            sink.span(&Span { y, x, len: len as u32, z: first as u32, dz, v, dv });
+            return;
+        }
+        let mut v = v;
+        for k in 0..len {
+            let z = ((z + self.z_dx * k as i64) >> 10).clamp(0, Z_MAX) as u32;
+            sink.span(&Span { y, x: x + k, len: 1, z, dz: 0, v, dv });
+            for (v, dv) in v.iter_mut().zip(dv) {
+                *v = v.wrapping_add(dv);
+            }
+        }
+    }
+}
+
+/// The largest depth value, the far plane: 2^30.
+const Z_MAX: i64 = 1 << 30;
+
+/// A run of covered pixels on one row, with everything needed to step across it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Span<const V: usize> {
+    /// Frame row.
+    pub y: i32,
+    /// Frame column of the first pixel.
+    pub x: i32,
+    /// Pixels in the run (>= 1).
+    pub len: u32,
+    /// Depth of the first pixel, 0..=2^30.
+    pub z: u32,
+    /// Depth step per pixel; `z + k·dz` stays in 0..=2^30 for every `k < len`.
+    pub dz: i32,
+    /// Varyings at the first pixel (16 fractional bits).
+    pub v: [i32; V],
+    /// Varying steps per pixel (wrapping adds).
+    pub dv: [i32; V],
+}
+
+/// What the rasterizer hands runs of covered pixels to (see [`Setup::for_each_span`]).
+pub trait SpanSink<const V: usize> {
+    /// Draws one run.
+    fn span(&mut self, span: &Span<V>);
+}
+
+/// Affine varyings: `v(x, y) = origin + gx·x + gy·y` in pixels from the origin pixel centre.
+#[derive(Clone, Copy, Debug)]
+struct Planes<const V: usize> {
+    origin: [f32; V],
+    gx: [f32; V],
+    gy: [f32; V],
+    /// `gx` rounded: the per-pixel step along a row.
+    step: [i32; V],
+}
+
+impl<const V: usize> Planes<V> {
+    /// The planes through the three vertices' values: the weight of vertex 1 is `E_1 / area`
+    /// and of vertex 2 is `E_2 / area` (screen-space barycentrics), in f32 (the same bits on
+    /// every target).
+    fn new(edges: &[Edge; 3], area: i64, v0: &[i32; V], d1: &[i32; V], d2: &[i32; V]) -> Self {
+        let inv_area = 1.0 / area as f32;
+        let per_pixel = |c: i32| (c * 16) as f32 * inv_area;
+        let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), edges[1].c as f32 * inv_area);
+        let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), edges[2].c as f32 * inv_area);
+        let mut p = Planes { origin: [0.0; V], gx: [0.0; V], gy: [0.0; V], step: [0; V] };
+        for k in 0..V {
+            let (d1, d2) = (d1[k] as f32, d2[k] as f32);
+            p.origin[k] = v0[k] as f32 + d1 * b1o + d2 * b2o;
+            p.gx[k] = d1 * b1x + d2 * b2x;
+            p.gy[k] = d1 * b1y + d2 * b2y;
+            p.step[k] = crate::math::round(p.gx[k]) as i32;
+        }
+        p
+    }
+
+    /// Varyings at column `x`, row `y` from the origin pixel, and the step per pixel.
+    #[inline(always)]
+    fn at(&self, x: i32, y: i32) -> ([i32; V], [i32; V]) {
+        let (x, y) = (x as f32, y as f32);
+        (core::array::from_fn(|k| (self.origin[k] + self.gx[k] * x + self.gy[k] * y) as i32), self.step)
     }
 }

@@ -4,9 +4,9 @@ use crate::camera::Camera;
 use crate::clip::{clip_triangle, ClipResult, ClipVertex, Planes, Polygon};
 use crate::format::{Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3, Vec4};
-use crate::raster::{facing, Fragment, Reject, ScreenVertex, Setup, Window, MAX_VARYINGS};
-use crate::shade::{modulate, Filter, Lights, PixelLights, Sampler};
-use crate::target::{Band, DepthBuffer, FrameColor, NoDepth, GUARD_HALF_EXTENT};
+use crate::raster::{facing, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS};
+use crate::shade::{modulate, Filter, Lights, PixelLights, Repeat565, Sampler};
+use crate::target::{Band, DepthBuffer, DepthCell, FrameColor, NoDepth, GUARD_HALF_EXTENT};
 
 /// How surfaces are lit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -469,9 +469,10 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     // Back faces are rejected before any lighting when the triangle is wholly in front of the
     // eye: projection keeps the winding, and the snapped positions are the ones `project`
     // computes below, so the decision is the same one the rasterizer would make.
-    if material.cull_back_faces && clip.iter().all(|c| c.w > 0.0) {
-        let screen = clip.map(|c| project_xy(c, ctx.half));
-        if facing(&screen, true, s.flip) == Err(Reject::BackFace) {
+    let in_front = clip.iter().all(|c| c.w > 0.0);
+    let xy = in_front.then(|| clip.map(|c| project_xy(c, ctx.half)));
+    if let Some(xy) = xy.as_ref().filter(|_| material.cull_back_faces) {
+        if facing(xy, true, s.flip) == Err(Reject::BackFace) {
             stats.culled_back_face += 1;
             return TriangleRows::EMPTY;
         }
@@ -481,17 +482,49 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     match clip_triangle(&tri, &ctx.planes, &mut poly) {
         ClipResult::Outside => {
             stats.culled_frustum += 1;
-            return TriangleRows::EMPTY;
+            TriangleRows::EMPTY
         }
         ClipResult::Inside => {
-            let _ = poly.extend_from_slice(&tri);
+            let screen: [ScreenVertex; 3] = match xy {
+                Some(xy) => core::array::from_fn(|k| with_depth_and_varyings(&tri[k], xy[k])),
+                None => tri.map(|v| project(&v, ctx.half)),
+            };
+            draw_polygon(band, ctx, s.flip, &screen, material, sampler, stats)
         }
-        ClipResult::Clipped => stats.clipped += 1,
+        ClipResult::Clipped => {
+            stats.clipped += 1;
+            let screen: heapless::Vec<ScreenVertex, { crate::clip::MAX_CLIPPED }> =
+                poly.iter().map(|v| project(v, ctx.half)).collect();
+            draw_polygon(band, ctx, s.flip, &screen, material, sampler, stats)
+        }
     }
-    let screen: heapless::Vec<ScreenVertex, { crate::clip::MAX_CLIPPED }> =
-        poly.iter().map(|v| project(v, ctx.half)).collect();
+}
+
+/// Fan triangle `k` (1..len-1) of a convex polygon: the polygon itself when it is a triangle
+/// (no copy).
+#[inline(always)]
+fn fan_triangle(screen: &[ScreenVertex], k: usize, f: impl FnOnce(&[ScreenVertex; 3])) {
+    match <&[ScreenVertex; 3]>::try_from(screen) {
+        Ok(tri) => f(tri),
+        Err(_) => f(&[screen[0], screen[k], screen[k + 1]]),
+    }
+}
+
+/// Draws a projected convex polygon (3 or more vertices) in the current mode and returns the
+/// rows it can touch.
+fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    flip: bool,
+    screen: &[ScreenVertex],
+    material: &Material,
+    sampler: Option<&Sampler<'_>>,
+    stats: &mut Stats,
+) -> TriangleRows {
     // One facing decision for the whole (convex) polygon, the same in every band.
-    if let Err(r) = facing(&[screen[0], screen[1], screen[2]], material.cull_back_faces, s.flip) {
+    let mut facing_result = Ok(0);
+    fan_triangle(screen, 1, |tri| facing_result = facing(tri, material.cull_back_faces, flip));
+    if let Err(r) = facing_result {
         if r == Reject::BackFace || screen.len() == 3 {
             count_reject(r, stats);
             return TriangleRows::EMPTY;
@@ -500,8 +533,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     let mode = ctx.opts.mode;
     if matches!(mode, Mode::Solid | Mode::SolidWireframe) {
         for k in 1..screen.len() - 1 {
-            let tri = [screen[0], screen[k], screen[k + 1]];
-            fill(band, ctx, s.flip, &tri, material, sampler, stats);
+            fan_triangle(screen, k, |tri| fill(band, ctx, flip, tri, material, sampler, stats));
         }
     }
     if matches!(mode, Mode::Wireframe | Mode::Points | Mode::SolidWireframe) {
@@ -518,7 +550,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
             }
         }
     }
-    TriangleRows::of(&screen, band.height)
+    TriangleRows::of(screen, band.height)
 }
 
 fn count_reject(r: Reject, stats: &mut Stats) {
@@ -587,12 +619,17 @@ fn vertex_varyings<const L: usize>(
 
 /// Clip space to screen: viewport mapping, 1/16-pixel snapping, fixed-point varyings.
 fn project(v: &ClipVertex, half: (f32, f32)) -> ScreenVertex {
-    let inv_w = 1.0 / v.pos.w;
+    with_depth_and_varyings(v, project_xy(v.pos, half))
+}
+
+/// [`project`] given the vertex's [`project_xy`].
+#[inline]
+fn with_depth_and_varyings(v: &ClipVertex, xy: ScreenVertex) -> ScreenVertex {
     ScreenVertex {
-        z: ((v.pos.z * inv_w + 1.0) * 0.5).clamp(0.0, 1.0),
+        z: ((v.pos.z * xy.inv_w + 1.0) * 0.5).clamp(0.0, 1.0),
         // Saturating casts: huge UVs clamp instead of wrapping.
         varyings: v.varyings.map(|a| a as i32),
-        ..project_xy(v.pos, half)
+        ..xy
     }
 }
 
@@ -601,7 +638,7 @@ fn project_xy(pos: Vec4, (hw, hh): (f32, f32)) -> ScreenVertex {
     let inv_w = 1.0 / pos.w;
     let x = (pos.x * inv_w + 1.0) * hw;
     let y = (1.0 - pos.y * inv_w) * hh;
-    let snap = |p: f32| crate::math::floor(p * 16.0) as i32;
+    let snap = |p: f32| crate::math::floor_to_i32(p * 16.0);
     ScreenVertex { x: snap(x), y: snap(y), z: 0.0, inv_w, varyings: [0; MAX_VARYINGS] }
 }
 
@@ -618,6 +655,13 @@ impl Base for Diffuse {
     #[inline]
     fn base(&self, _: i32, _: i32) -> Option<[u8; 3]> {
         Some(self.0)
+    }
+}
+
+impl Base for Repeat565<'_> {
+    #[inline(always)]
+    fn base(&self, u: i32, v: i32) -> Option<[u8; 3]> {
+        Some(self.sample(u, v))
     }
 }
 
@@ -647,6 +691,16 @@ impl Lighting for Interpolated {
     #[inline(always)]
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
         [v[LIGHT], v[LIGHT + 1], v[LIGHT + 2]]
+    }
+}
+
+/// [`Interpolated`] for white light: one varying for all three channels.
+struct White;
+
+impl Lighting for White {
+    #[inline(always)]
+    fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
+        [v[LIGHT]; 3]
     }
 }
 
@@ -682,9 +736,10 @@ fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     sampler: Option<&Sampler<'_>>,
     stats: &mut Stats,
 ) {
-    let r = match sampler {
-        Some(t) => fill_with(band, ctx, flip, tri, material, t, stats),
-        None => {
+    let r = match (sampler, sampler.and_then(Repeat565::new)) {
+        (_, Some(fast)) => fill_with(band, ctx, flip, tri, material, &fast, stats),
+        (Some(t), None) => fill_with(band, ctx, flip, tri, material, t, stats),
+        (None, _) => {
             let diffuse = Diffuse([material.rgba[0], material.rgba[1], material.rgba[2]]);
             fill_with(band, ctx, flip, tri, material, &diffuse, stats)
         }
@@ -709,14 +764,20 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     let cull = material.cull_back_faces;
     let specular = ctx.lights.specular.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
     let pl = &ctx.pixel_lights;
+    let white =
+        || tri.iter().all(|v| v.varyings[LIGHT] == v.varyings[LIGHT + 1] && v.varyings[LIGHT] == v.varyings[LIGHT + 2]);
     let lit = if ctx.opts.shading == Shading::Phong {
         LitBy::Pixel
     } else if specular != [0; 3] {
         LitBy::VertexAndSpecular
+    } else if white() {
+        LitBy::White
     } else {
         LitBy::Vertex
     };
     match (lit, ctx.opts.dither) {
+        (LitBy::White, false) => fragments::<_, _, _, _, 3, false>(band, raster, tri, cull, flip, base, &White, stats),
+        (LitBy::White, true) => fragments::<_, _, _, _, 3, true>(band, raster, tri, cull, flip, base, &White, stats),
         (LitBy::Vertex, false) => {
             fragments::<_, _, _, _, 5, false>(band, raster, tri, cull, flip, base, &Interpolated, stats)
         }
@@ -741,6 +802,8 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
 /// Which [`Lighting`] a triangle uses (and so how many varyings it interpolates).
 #[derive(Clone, Copy)]
 enum LitBy {
+    /// White light per vertex: U, V, light.
+    White,
     /// Light per vertex: U, V, light red, green, blue.
     Vertex,
     /// The same plus a specular intensity.
@@ -757,36 +820,64 @@ struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     first_row: i32,
     base: &'s B,
     lighting: &'s Lt,
-    index: usize,
-    stats: &'s mut Stats,
+    written: u32,
+    rejected: u32,
 }
 
-impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool> Fragment<V>
+impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool> SpanSink<V>
     for Shader<'_, '_, C, D, B, Lt, DITHER>
 {
     #[inline(always)]
-    fn test(&mut self, x: i32, y: i32, z: u32) -> bool {
-        self.index = (y - self.first_row) as usize * self.width + x as usize;
-        let pass = self.depth.passes(self.index, z);
-        self.stats.depth_rejected += u32::from(!pass);
-        pass
+    fn span(&mut self, s: &Span<V>) {
+        let len = s.len as usize;
+        let Some(start) = usize::try_from(s.y - self.first_row)
+            .ok()
+            .and_then(|row| row.checked_mul(self.width)?.checked_add(usize::try_from(s.x).ok()?))
+        else {
+            return;
+        };
+        let (Some(colors), Some(cells)) =
+            (self.color.get_mut(start..start.saturating_add(len)), self.depth.cells(start, len))
+        else {
+            return;
+        };
+        let (mut z, mut v) = (s.z, s.v);
+        let (mut written, mut rejected) = (0, 0);
+        for (k, (px, mut cell)) in colors.iter_mut().zip(cells).enumerate() {
+            if !cell.passes(z) {
+                rejected += 1;
+            // A cut-out texel writes neither colour nor depth.
+            } else if let Some(rgb) = self.base.base(v[U], v[V_]) {
+                let mut rgb = modulate(rgb, self.lighting.light(&v));
+                let extra = self.lighting.highlight(&v);
+                if extra != [0; 3] {
+                    rgb = core::array::from_fn(|c| rgb[c].saturating_add(extra[c]));
+                }
+                *px = if DITHER {
+                    C::from_rgb888_dithered(rgb, (s.x + k as i32) as u32, s.y as u32)
+                } else {
+                    C::from_rgb888(rgb)
+                };
+                cell.store(z);
+                written += 1;
+            }
+            z = z.wrapping_add_signed(s.dz);
+            for (v, dv) in v.iter_mut().zip(s.dv) {
+                *v = v.wrapping_add(dv);
+            }
+        }
+        self.written += written;
+        self.rejected += rejected;
     }
+}
 
-    #[inline(always)]
-    fn shade(&mut self, x: i32, y: i32, z: u32, v: &[i32; V]) {
-        // A cut-out texel writes neither colour nor depth.
-        let Some(rgb) = self.base.base(v[U], v[V_]) else { return };
-        let mut rgb = modulate(rgb, self.lighting.light(v));
-        let extra = self.lighting.highlight(v);
-        if extra != [0; 3] {
-            rgb = core::array::from_fn(|k| rgb[k].saturating_add(extra[k]));
-        }
-        if let Some(px) = self.color.get_mut(self.index) {
-            *px = if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) };
-            self.depth.store(self.index, z);
-            self.stats.pixels_written += 1;
-        }
-    }
+/// How far affine varyings may be from perspective-correct ones before a triangle (or a run of
+/// pixels) is drawn with per-pixel perspective (see `Setup::allow_affine`): 1/16 texel for
+/// texture coordinates; 1/256 for light (an 8-bit step; a quarter of RGB565's finest); for
+/// Phong's normals and positions 1/4096, as per-pixel lighting magnifies their errors.
+fn affine_tolerance<const V: usize>() -> [u32; V] {
+    let other = if V == MAX_VARYINGS { 1 << 4 } else { 1 << 8 };
+    core::array::from_fn(|k| if k == U || k == V_ { 1 << 12 } else { other })
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -801,7 +892,8 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
     lighting: &Lt,
     stats: &mut Stats,
 ) -> Result<(), Reject> {
-    let setup = Setup::<V>::new(tri, window, cull_back, flip)?;
+    let mut setup = Setup::<V>::new(tri, window, cull_back, flip)?;
+    setup.allow_affine(affine_tolerance::<V>());
     let mut shader = Shader::<C, D, B, Lt, DITHER> {
         width: band.width as usize,
         first_row: band.first_row as i32,
@@ -809,10 +901,12 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         depth: &mut band.depth,
         base,
         lighting,
-        index: 0,
-        stats,
+        written: 0,
+        rejected: 0,
     };
-    setup.for_each_fragment(subspan, &mut shader);
+    setup.for_each_span(subspan, &mut shader);
+    stats.pixels_written += shader.written;
+    stats.depth_rejected += shader.rejected;
     Ok(())
 }
 

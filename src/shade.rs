@@ -336,6 +336,49 @@ impl<'a> Sampler<'a> {
     }
 }
 
+/// The common texture of small targets, sampled with the fewest operations: RGB565, both
+/// sizes powers of two, repeat on both axes, nearest. Samples exactly what [`Sampler`] does
+/// for such a texture.
+#[derive(Clone, Copy, Debug)]
+pub struct Repeat565<'a> {
+    texels: &'a [u8],
+    u_mask: i32,
+    v_mask: i32,
+    width_shift: u32,
+}
+
+impl<'a> Repeat565<'a> {
+    /// The fast form of `sampler`, when its texture and modes allow one.
+    #[must_use]
+    pub fn new(sampler: &Sampler<'a>) -> Option<Self> {
+        let t = &sampler.texture;
+        let fits = t.format == TextureFormat::Rgb565
+            && sampler.filter == Filter::Nearest
+            && sampler.u.mask >= 0
+            && sampler.v.mask >= 0;
+        fits.then_some(Repeat565 {
+            texels: t.texels,
+            u_mask: sampler.u.mask,
+            v_mask: sampler.v.mask,
+            width_shift: t.width.trailing_zeros(),
+        })
+    }
+
+    /// RGB at texel coordinates `(u, v)` in 16.16 (black if the texture is short).
+    #[inline(always)]
+    #[must_use]
+    pub fn sample(&self, u: i32, v: i32) -> [u8; 3] {
+        let at = ((((v >> 16) & self.v_mask) << self.width_shift) | ((u >> 16) & self.u_mask)) as usize;
+        match self.texels.get(2 * at..2 * at + 2) {
+            Some(b) => {
+                let [r, g, b, _] = crate::format::decode_texel(TextureFormat::Rgb565, b);
+                [r, g, b]
+            }
+            None => [0; 3],
+        }
+    }
+}
+
 /// `c · light` per channel with `light` in 16.16 (1.0 = 65536), rounded, clamped to 255.
 #[inline(always)]
 #[must_use]

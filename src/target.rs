@@ -169,34 +169,66 @@ impl From<Rgb565> for Rgb565Be {
     }
 }
 
+/// One entry of a depth buffer, as the per-pixel loop sees it.
+pub trait DepthCell {
+    /// Whether depth `z` (0..=2^30) passes the LEQUAL test here.
+    fn passes(&self, z: u32) -> bool;
+    /// Stores `z` (0..=2^30) here.
+    fn store(&mut self, z: u32);
+}
+
 /// A depth buffer for one band. Depth values arrive as 0..=2^30 (near..far, see the crate's
 /// conventions); the test is LEQUAL.
 pub trait DepthBuffer {
+    /// The entries of a run of pixels, in order.
+    type Cells<'a>: Iterator<Item: DepthCell>
+    where
+        Self: 'a;
     /// Number of entries (must equal the colour slice's length), or `None` for no buffer.
     fn depth_len(&self) -> Option<usize>;
-    /// Whether depth `z` passes the LEQUAL test at entry `i` (false outside the buffer).
-    fn passes(&self, i: usize, z: u32) -> bool;
-    /// Stores `z` at entry `i` (ignored outside the buffer).
-    fn store(&mut self, i: usize, z: u32);
+    /// Entries `start..start + len`, or `None` when they are not all in the buffer.
+    fn cells(&mut self, start: usize, len: usize) -> Option<Self::Cells<'_>>;
     /// Sets every entry to the far plane.
     fn clear_depth(&mut self);
+
+    /// Whether depth `z` passes the LEQUAL test at entry `i` (false outside the buffer).
+    #[inline]
+    fn passes(&mut self, i: usize, z: u32) -> bool {
+        self.cells(i, 1).and_then(|mut c| c.next()).is_some_and(|c| c.passes(z))
+    }
+    /// Stores `z` at entry `i` (ignored outside the buffer).
+    #[inline]
+    fn store(&mut self, i: usize, z: u32) {
+        if let Some(mut c) = self.cells(i, 1).and_then(|mut c| c.next()) {
+            c.store(z);
+        }
+    }
 }
 
 /// Depth as `u16`: `z >> 14` (0 = near plane, 65535 = far plane).
+impl DepthCell for &mut u16 {
+    #[inline(always)]
+    fn passes(&self, z: u32) -> bool {
+        z_to_u16(z) <= **self
+    }
+    #[inline(always)]
+    fn store(&mut self, z: u32) {
+        **self = z_to_u16(z);
+    }
+}
+
 impl DepthBuffer for &mut [u16] {
+    type Cells<'a>
+        = core::slice::IterMut<'a, u16>
+    where
+        Self: 'a;
     #[inline]
     fn depth_len(&self) -> Option<usize> {
         Some(self.len())
     }
-    #[inline]
-    fn passes(&self, i: usize, z: u32) -> bool {
-        self.get(i).is_some_and(|&d| z_to_u16(z) <= d)
-    }
-    #[inline]
-    fn store(&mut self, i: usize, z: u32) {
-        if let Some(d) = self.get_mut(i) {
-            *d = z_to_u16(z);
-        }
+    #[inline(always)]
+    fn cells(&mut self, start: usize, len: usize) -> Option<Self::Cells<'_>> {
+        self.get_mut(start..start.checked_add(len)?).map(|s| s.iter_mut())
     }
     fn clear_depth(&mut self) {
         self.fill(u16::MAX);
@@ -204,32 +236,41 @@ impl DepthBuffer for &mut [u16] {
 }
 
 /// Depth as `f32` in 0.0 (near) ..= 1.0 (far).
+impl DepthCell for &mut f32 {
+    #[inline(always)]
+    fn passes(&self, z: u32) -> bool {
+        z_to_f32(z) <= **self
+    }
+    #[inline(always)]
+    fn store(&mut self, z: u32) {
+        **self = z_to_f32(z);
+    }
+}
+
 impl DepthBuffer for &mut [f32] {
+    type Cells<'a>
+        = core::slice::IterMut<'a, f32>
+    where
+        Self: 'a;
     #[inline]
     fn depth_len(&self) -> Option<usize> {
         Some(self.len())
     }
-    #[inline]
-    fn passes(&self, i: usize, z: u32) -> bool {
-        self.get(i).is_some_and(|&d| z_to_f32(z) <= d)
-    }
-    #[inline]
-    fn store(&mut self, i: usize, z: u32) {
-        if let Some(d) = self.get_mut(i) {
-            *d = z_to_f32(z);
-        }
+    #[inline(always)]
+    fn cells(&mut self, start: usize, len: usize) -> Option<Self::Cells<'_>> {
+        self.get_mut(start..start.checked_add(len)?).map(|s| s.iter_mut())
     }
     fn clear_depth(&mut self) {
         self.fill(1.0);
     }
 }
 
-#[inline]
+#[inline(always)]
 fn z_to_u16(z: u32) -> u16 {
     (z >> 14).min(u16::MAX as u32) as u16
 }
 
-#[inline]
+#[inline(always)]
 fn z_to_f32(z: u32) -> f32 {
     z as f32 * (1.0 / (1u32 << 30) as f32)
 }
@@ -238,17 +279,29 @@ fn z_to_f32(z: u32) -> f32 {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct NoDepth;
 
+/// The cell of [`NoDepth`]: every depth passes, nothing is stored.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoDepthCell;
+
+impl DepthCell for NoDepthCell {
+    #[inline(always)]
+    fn passes(&self, _: u32) -> bool {
+        true
+    }
+    #[inline(always)]
+    fn store(&mut self, _: u32) {}
+}
+
 impl DepthBuffer for NoDepth {
+    type Cells<'a> = core::iter::RepeatN<NoDepthCell>;
     #[inline]
     fn depth_len(&self) -> Option<usize> {
         None
     }
-    #[inline]
-    fn passes(&self, _: usize, _: u32) -> bool {
-        true
+    #[inline(always)]
+    fn cells(&mut self, _: usize, len: usize) -> Option<Self::Cells<'_>> {
+        Some(core::iter::repeat_n(NoDepthCell, len))
     }
-    #[inline]
-    fn store(&mut self, _: usize, _: u32) {}
     fn clear_depth(&mut self) {}
 }
 

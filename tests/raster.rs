@@ -663,6 +663,72 @@ fn exact_varying(tri: &[ScreenVertex; 3], x: i32, y: i32, k: usize) -> f64 {
     (0..3).map(|i| q[i] / s * tri[i].varyings[k] as f64).sum()
 }
 
+/// `allow_affine`: whether a triangle is drawn from affine planes (whole triangle) or from
+/// exact values at adaptively chosen points (per segment), every pixel stays within the
+/// tolerance of the perspective-correct value plus what the exact path itself is off by on
+/// that triangle (its integer weights), plus the stepping's rounding (a unit per pixel of a
+/// segment, and one for the plane's f32 evaluation).
+#[test]
+fn affine_shortcuts_stay_within_their_tolerance() {
+    let mut rng = Rng::new(0x5EED_0006);
+    let f = Frame { w: 200, h: 150 };
+    let win = full_window(f.w, f.h);
+    // 1/16 texel, 1/256 of light 1.0, and 1/16 unit or (every fifth case) 0: always exact.
+    let (mut affine, mut adaptive, mut pixels) = (0, 0, 0usize);
+    let mut worst = [0.0f64; 3];
+    for case in 0..600 {
+        let c = f.near_point(&mut rng, 0);
+        let size = [8, 40, 150][case % 3];
+        let t =
+            [0; 3].map(|_| f.clamp(pt(c.x + rng.range(-16 * size, 16 * size), c.y + rng.range(-16 * size, 16 * size))));
+        let mut tri = svs(&t);
+        // From nearly flat (w ratio 1.001) to strong perspective (1:4).
+        let spread = [0.001, 0.01, 0.1, 3.0][case % 4];
+        for v in tri.iter_mut() {
+            v.inv_w = (1.0 / (1.0 + rng.unit() * spread)) as f32;
+            v.z = rng.unit() as f32;
+            v.varyings[0] = rng.range(0, 16 << VARYING_FRAC) as i32;
+            v.varyings[1] = rng.range(0, 1 << VARYING_FRAC) as i32;
+            v.varyings[2] = rng.range(-(1 << 20), 1 << 20) as i32;
+        }
+        let tolerance = [1u32 << 12, 1 << 8, if case % 5 == 0 { 0 } else { 1 << 12 }];
+        let Ok(mut s) = Setup::<3>::new(&tri, &win, false, false) else { continue };
+        let mut exact = Vec::new();
+        s.for_each_pixel(1, |x, y, _, v| exact.push((x, y, *v)));
+        s.allow_affine(tolerance);
+        if s.is_affine() {
+            affine += 1;
+        } else {
+            adaptive += 1;
+        }
+        let mut got = Vec::new();
+        s.for_each_pixel(1, |x, y, _, v| got.push((x, y, *v)));
+        assert_eq!(got.len(), exact.len(), "coverage must not change");
+        // Longest run stepped linearly: bounds the stepping's rounding.
+        let max_len = (t.iter().map(|p| p.x).max().unwrap() - t.iter().map(|p| p.x).min().unwrap()) / 16 + 2;
+        let exact_error: [f64; 3] = core::array::from_fn(|k| {
+            exact.iter().map(|(x, y, e)| (e[k] as f64 - exact_varying(&tri, *x, *y, k)).abs()).fold(0.0, f64::max)
+        });
+        for ((x, y, v), (ex, ey, e)) in got.iter().zip(&exact) {
+            assert_eq!((x, y), (ex, ey));
+            for k in 0..3 {
+                let err = (v[k] as f64 - exact_varying(&tri, *x, *y, k)).abs();
+                let rounding = exact_error[k] + 2.0 + max_len as f64 + (v[k] as f64).abs() * 1e-6;
+                if tolerance[k] == 0 {
+                    // Never shortcut: bit-identical to the exact path.
+                    assert_eq!(v[k], e[k], "varying {k} at ({x}, {y})");
+                } else {
+                    assert!(err <= tolerance[k] as f64 + rounding, "varying {k} at ({x}, {y}): error {err}, {tri:?}");
+                }
+                worst[k] = worst[k].max(err);
+            }
+            pixels += 1;
+        }
+    }
+    println!("affine shortcuts: {affine} affine triangles, {adaptive} adaptive, {pixels} pixels, worst {worst:?}");
+    assert!(affine > 50 && adaptive > 50, "{affine} affine, {adaptive} adaptive");
+}
+
 #[test]
 fn varyings_are_perspective_correct() {
     let mut rng = Rng::new(0x5EED_0005);
