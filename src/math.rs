@@ -152,9 +152,30 @@ pub fn normal_matrix(m: &Mat4) -> Mat3 {
     m3.inverse().transpose()
 }
 
+/// Whether `m` is a rotation (orthonormal columns, to 1e-6): it keeps unit vectors unit.
+#[must_use]
+pub fn is_rotation(m: &Mat3) -> bool {
+    let near = |a: f32, b: f32| (a - b).abs() <= 1e-6;
+    let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
+    near(x.dot(x), 1.0)
+        && near(y.dot(y), 1.0)
+        && near(z.dot(z), 1.0)
+        && near(x.dot(y), 0.0)
+        && near(y.dot(z), 0.0)
+        && near(z.dot(x), 0.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rotations_are_recognised() {
+        assert!(is_rotation(&Mat3::from_rotation_y(0.5)));
+        assert!(is_rotation(&Mat3::IDENTITY));
+        assert!(!is_rotation(&Mat3::from_diagonal(Vec3::new(1.0, 2.0, 1.0))));
+        assert!(!is_rotation(&Mat3::ZERO));
+    }
 
     #[test]
     fn floor_to_i32_is_floor() {

@@ -93,11 +93,11 @@ impl Edge {
         let row = self.c + self.b * 16 * dy;
         let step = self.a * 16;
         if step > 0 {
-            // row + step * x >= 0  <=>  x >= ceil(-row / step)
-            Some((lo.max(ceil_div(-row, step)), hi))
+            // row + step * x >= 0  <=>  x >= ceil(-row / step) = -floor(row / step)
+            Some((lo.max(-floor_div_positive(row, step)), hi))
         } else if step < 0 {
             // x <= floor(row / -step)
-            Some((lo, hi.min(floor_div(row, -step))))
+            Some((lo, hi.min(floor_div_positive(row, -step))))
         } else if row >= 0 {
             Some((lo, hi))
         } else {
@@ -110,6 +110,18 @@ impl Edge {
 fn floor_div(n: i32, d: i32) -> i32 {
     let q = n / d;
     if (n % d != 0) && ((n < 0) != (d < 0)) {
+        q - 1
+    } else {
+        q
+    }
+}
+
+/// `floor(n / d)` for `d > 0` (fewer steps than [`floor_div`]: this runs per row and edge).
+#[inline(always)]
+fn floor_div_positive(n: i32, d: i32) -> i32 {
+    debug_assert!(d > 0);
+    let q = n / d;
+    if n - q * d < 0 {
         q - 1
     } else {
         q
@@ -202,8 +214,12 @@ impl<const V: usize> Setup<V> {
     /// image-space winding is counter-clockwise in window coordinates' opposite sense, i.e. back
     /// faces; `flip` inverts which winding counts as front (negative-determinant transforms).
     pub fn new(tri: &[ScreenVertex; 3], win: &Window, cull_back: bool, flip: bool) -> Result<Self, Reject> {
+        Self::with_area(tri, win, facing(tri, cull_back, flip)?)
+    }
+
+    /// [`Setup::new`] for a triangle that already passed [`facing`], which gave `area`.
+    pub fn with_area(tri: &[ScreenVertex; 3], win: &Window, area: i64) -> Result<Self, Reject> {
         let [p0, p1, p2] = tri;
-        let area = facing(tri, cull_back, flip)?;
         // Reorder so the inside is E > 0 (positive image-space area).
         let (a, b, c) = if area > 0 { (p0, p1, p2) } else { (p0, p2, p1) };
         let area = area.abs();

@@ -278,6 +278,8 @@ struct DrawSetup<'a> {
     mvp: Mat4,
     model_q: Mat4,
     normals: Mat3,
+    /// `normals` is a rotation (to 1e-6): stored unit normals stay unit, no normalising.
+    rotation: bool,
     flip: bool,
     uv: ([f32; 2], [f32; 2]),
     mesh: Mesh<'a>,
@@ -286,10 +288,12 @@ struct DrawSetup<'a> {
 impl<'a> DrawSetup<'a> {
     fn new<C, D, const L: usize>(_band: &Band<'_, C, D>, ctx: &Context<'_, L>, mesh: Mesh<'a>, world: Mat4) -> Self {
         let model_q = world * mesh.dequantize();
+        let normals = normal_matrix(&world);
         DrawSetup {
             mvp: ctx.vp * model_q,
             model_q,
-            normals: normal_matrix(&world),
+            normals,
+            rotation: crate::math::is_rotation(&normals),
             flip: Mat3::from_mat4(world).determinant() < 0.0,
             uv: mesh.uv_transform(),
             mesh,
@@ -471,10 +475,16 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     // computes below, so the decision is the same one the rasterizer would make.
     let in_front = clip.iter().all(|c| c.w > 0.0);
     let xy = in_front.then(|| clip.map(|c| project_xy(c, ctx.half)));
-    if let Some(xy) = xy.as_ref().filter(|_| material.cull_back_faces) {
-        if facing(xy, true, s.flip) == Err(Reject::BackFace) {
-            stats.culled_back_face += 1;
-            return TriangleRows::EMPTY;
+    let mut area = None;
+    if let Some(xy) = &xy {
+        match facing(xy, material.cull_back_faces, s.flip) {
+            Err(Reject::BackFace) => {
+                stats.culled_back_face += 1;
+                return TriangleRows::EMPTY;
+            }
+            // Kept for the rasterizer if the triangle is drawn unclipped (same positions).
+            Ok(a) => area = Some(a),
+            Err(_) => {}
         }
     }
     let tri = vertex_varyings(ctx, s, &idx, &qv, &clip, sampler);
@@ -489,13 +499,13 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
                 Some(xy) => core::array::from_fn(|k| with_depth_and_varyings(&tri[k], xy[k])),
                 None => tri.map(|v| project(&v, ctx.half)),
             };
-            draw_polygon(band, ctx, s.flip, &screen, material, sampler, stats)
+            draw_polygon(band, ctx, s.flip, &screen, area, material, sampler, stats)
         }
         ClipResult::Clipped => {
             stats.clipped += 1;
             let screen: heapless::Vec<ScreenVertex, { crate::clip::MAX_CLIPPED }> =
                 poly.iter().map(|v| project(v, ctx.half)).collect();
-            draw_polygon(band, ctx, s.flip, &screen, material, sampler, stats)
+            draw_polygon(band, ctx, s.flip, &screen, None, material, sampler, stats)
         }
     }
 }
@@ -511,29 +521,39 @@ fn fan_triangle(screen: &[ScreenVertex], k: usize, f: impl FnOnce(&[ScreenVertex
 }
 
 /// Draws a projected convex polygon (3 or more vertices) in the current mode and returns the
-/// rows it can touch.
+/// rows it can touch. `area`: what [`facing`] gave for these very positions, when known.
+#[allow(clippy::too_many_arguments)]
 fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     flip: bool,
     screen: &[ScreenVertex],
+    area: Option<i64>,
     material: &Material,
     sampler: Option<&Sampler<'_>>,
     stats: &mut Stats,
 ) -> TriangleRows {
     // One facing decision for the whole (convex) polygon, the same in every band.
-    let mut facing_result = Ok(0);
-    fan_triangle(screen, 1, |tri| facing_result = facing(tri, material.cull_back_faces, flip));
-    if let Err(r) = facing_result {
-        if r == Reject::BackFace || screen.len() == 3 {
-            count_reject(r, stats);
-            return TriangleRows::EMPTY;
-        }
+    let mut facing_result = area.ok_or(Reject::Empty);
+    if area.is_none() {
+        fan_triangle(screen, 1, |tri| facing_result = facing(tri, material.cull_back_faces, flip));
     }
+    let area = match facing_result {
+        Ok(a) => a,
+        Err(r) => {
+            if r == Reject::BackFace || screen.len() == 3 {
+                count_reject(r, stats);
+                return TriangleRows::EMPTY;
+            }
+            0
+        }
+    };
     let mode = ctx.opts.mode;
     if matches!(mode, Mode::Solid | Mode::SolidWireframe) {
         for k in 1..screen.len() - 1 {
-            fan_triangle(screen, k, |tri| fill(band, ctx, flip, tri, material, sampler, stats));
+            // A triangle's area is the polygon's; fan pieces get their own.
+            let known = (screen.len() == 3).then_some(area);
+            fan_triangle(screen, k, |tri| fill(band, ctx, flip, tri, known, material, sampler, stats));
         }
     }
     if matches!(mode, Mode::Wireframe | Mode::Points | Mode::SolidWireframe) {
@@ -572,7 +592,14 @@ fn vertex_varyings<const L: usize>(
     sampler: Option<&Sampler<'_>>,
 ) -> [ClipVertex; 3] {
     let world: [Vec3; 3] = core::array::from_fn(|k| (s.model_q * qv[k]).truncate());
-    let normal = |k: usize| normalize_or_zero(s.normals * s.mesh.normal(idx[k]));
+    let normal = |k: usize| {
+        let n = s.normals * s.mesh.normal(idx[k]);
+        if s.rotation {
+            n
+        } else {
+            normalize_or_zero(n)
+        }
+    };
     let lights = ctx.lights;
     let eye = ctx.eye;
     // Light and specular per vertex (unlit, flat, Gouraud) or nothing (Phong lights per pixel).
@@ -643,12 +670,13 @@ fn project_xy(pos: Vec4, (hw, hh): (f32, f32)) -> ScreenVertex {
 }
 
 /// Where a fragment's unlit colour comes from.
-trait Base {
+trait Base: Copy {
     /// The colour at texel coordinates `(u, v)`, or `None` for a cut-out texel.
     fn base(&self, u: i32, v: i32) -> Option<[u8; 3]>;
 }
 
 /// Untextured: the material's diffuse colour.
+#[derive(Clone, Copy)]
 struct Diffuse([u8; 3]);
 
 impl Base for Diffuse {
@@ -727,21 +755,23 @@ impl<const L: usize> Lighting for PixelLights<L> {
 
 /// Rasterizes one screen triangle, choosing the monomorphised inner loop once per triangle so
 /// the per-pixel loop never branches on modes.
+#[allow(clippy::too_many_arguments)]
 fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     flip: bool,
     tri: &[ScreenVertex; 3],
+    area: Option<i64>,
     material: &Material,
     sampler: Option<&Sampler<'_>>,
     stats: &mut Stats,
 ) {
     let r = match (sampler, sampler.and_then(Repeat565::new)) {
-        (_, Some(fast)) => fill_with(band, ctx, flip, tri, material, &fast, stats),
-        (Some(t), None) => fill_with(band, ctx, flip, tri, material, t, stats),
+        (_, Some(fast)) => fill_with(band, ctx, (flip, area), tri, material, &fast, stats),
+        (Some(t), None) => fill_with(band, ctx, (flip, area), tri, material, t, stats),
         (None, _) => {
             let diffuse = Diffuse([material.rgba[0], material.rgba[1], material.rgba[2]]);
-            fill_with(band, ctx, flip, tri, material, &diffuse, stats)
+            fill_with(band, ctx, (flip, area), tri, material, &diffuse, stats)
         }
     };
     match r {
@@ -754,7 +784,7 @@ fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
 fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    flip: bool,
+    flip: (bool, Option<i64>),
     tri: &[ScreenVertex; 3],
     material: &Material,
     base: &B,
@@ -827,7 +857,7 @@ struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
 impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool> SpanSink<V>
     for Shader<'_, '_, C, D, B, Lt, DITHER>
 {
-    #[inline(always)]
+    #[inline(never)]
     fn span(&mut self, s: &Span<V>) {
         let len = s.len as usize;
         let Some(start) = usize::try_from(s.y - self.first_row)
@@ -842,12 +872,14 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
             return;
         };
         let (mut z, mut v) = (s.z, s.v);
-        let (mut written, mut rejected) = (0, 0);
+        // Local copies: the loop keeps them in registers instead of reloading through `self`.
+        let base = *self.base;
+        let (mut rejected, mut cut) = (0, 0);
         for (k, (px, mut cell)) in colors.iter_mut().zip(cells).enumerate() {
             if !cell.passes(z) {
                 rejected += 1;
-            // A cut-out texel writes neither colour nor depth.
-            } else if let Some(rgb) = self.base.base(v[U], v[V_]) {
+                // A cut-out texel writes neither colour nor depth.
+            } else if let Some(rgb) = base.base(v[U], v[V_]) {
                 let mut rgb = modulate(rgb, self.lighting.light(&v));
                 let extra = self.lighting.highlight(&v);
                 if extra != [0; 3] {
@@ -859,14 +891,15 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
                     C::from_rgb888(rgb)
                 };
                 cell.store(z);
-                written += 1;
+            } else {
+                cut += 1;
             }
             z = z.wrapping_add_signed(s.dz);
             for (v, dv) in v.iter_mut().zip(s.dv) {
                 *v = v.wrapping_add(dv);
             }
         }
-        self.written += written;
+        self.written += s.len - rejected - cut;
         self.rejected += rejected;
     }
 }
@@ -887,12 +920,15 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
     (window, subspan): (&Window, u32),
     tri: &[ScreenVertex; 3],
     cull_back: bool,
-    flip: bool,
+    (flip, area): (bool, Option<i64>),
     base: &B,
     lighting: &Lt,
     stats: &mut Stats,
 ) -> Result<(), Reject> {
-    let mut setup = Setup::<V>::new(tri, window, cull_back, flip)?;
+    let mut setup = match area {
+        Some(area) => Setup::<V>::with_area(tri, window, area)?,
+        None => Setup::<V>::new(tri, window, cull_back, flip)?,
+    };
     setup.allow_affine(affine_tolerance::<V>());
     let mut shader = Shader::<C, D, B, Lt, DITHER> {
         width: band.width as usize,
