@@ -486,6 +486,13 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
             Ok(a) => area = Some(a),
             Err(_) => {}
         }
+        // Rows of the unclipped triangle: a superset of what clipping leaves. A triangle that
+        // cannot touch this band is not lit, clipped or set up here (a row cache learns its
+        // rows for the later bands).
+        let rows = TriangleRows::of(xy, band.height);
+        if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
+            return rows;
+        }
     }
     let tri = vertex_varyings(ctx, s, &idx, &qv, &clip, sampler);
     let mut poly = Polygon::new();
