@@ -26,6 +26,10 @@
 //!   it scaled to `0..=65535`; the test is LEQUAL (smaller is nearer).
 //! - **Textures**: uv (0, 0) is the bottom-left of the image; image row from the top is
 //!   `(1 - v) · H`.
+//! - **Perspective**: texture coordinates and light are interpolated perspective-correctly.
+//!   Where the triangle's (or a run of pixels') range of `1/w` proves affine stepping is
+//!   within a tolerance (1/16 texel; 1/256 of full light), the rasterizer steps linearly
+//!   instead of dividing per pixel (see [`raster::Setup::allow_affine`]).
 #![no_std]
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]

@@ -417,6 +417,9 @@ impl<const V: usize> Setup<V> {
             let adaptive = subspan == 1 && self.tolerance.iter().any(|&t| t > 0.0);
             let mut xs = lo;
             let mut start = exact(xs);
+            // Adaptive: the next segment's length to try, from the last one that passed (per
+            // row only, so that every band makes the same choices).
+            let mut try_len = hi - lo;
             while xs <= hi {
                 let z = z + self.z_dx * (xs - lo) as i64;
                 if xs == hi {
@@ -424,15 +427,16 @@ impl<const V: usize> Setup<V> {
                     self.emit(sink, y, xs, xs + 1, z, start.0, [0; V]);
                     break;
                 }
-                // The segment's far end: `subspan` pixels on, or (adaptive) the farthest point,
-                // halving the distance, up to which linear steps are provably close enough.
-                let mut xe = if adaptive { hi } else { (xs + subspan).min(hi) };
+                // The segment's far end: `subspan` pixels on, or (adaptive) as far as linear
+                // steps are provably close enough, halving the distance until they are.
+                let mut xe = if adaptive { (xs + try_len).min(hi) } else { (xs + subspan).min(hi) };
                 let mut end = exact(xe);
                 while adaptive && xe > xs + 1 && !self.linear_within(&start, &end) {
                     xe = xs + (xe - xs) / 2;
                     end = exact(xe);
                 }
                 let len = xe - xs;
+                try_len = 2 * len;
                 let step = core::array::from_fn(|k| {
                     let diff = end.0[k].wrapping_sub(start.0[k]);
                     if len == subspan && subspan.count_ones() == 1 {

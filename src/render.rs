@@ -46,7 +46,8 @@ pub struct RenderOptions {
     /// Texture filtering.
     pub filter: Filter,
     /// Varyings are computed exactly every `subspan` pixels along a span and stepped linearly
-    /// in between; 1 (the default) is exact perspective correction at every pixel.
+    /// in between. 1 (the default) is perspective-correct at every pixel: exact, or stepped
+    /// linearly only where that is provably within 1/16 texel and 1/256 of full light.
     pub subspan: u32,
     /// Whether textures are used (false: material colour only).
     pub textures: bool,
