@@ -125,3 +125,25 @@ printf '%s\n' "${ratios[@]}"
 echo
 echo "JSON lines:"
 printf '%s\n' "${lines[@]}"
+
+# Where the M4F's instructions go (1 band), by pipeline stage: a second plugin counts executed
+# instructions per address, and benches/mcu-profile.py attributes them through the inlining
+# chain. Optional: needs python3 and llvm-addr2line.
+echo
+if command -v python3 >/dev/null && command -v llvm-addr2line >/dev/null; then
+    gcc -O2 -shared -fPIC -o "$work/libpcprof.so" "$root/benches/qemu-pcprof/pcprof.c" \
+        || { echo "mcu bench: building the profiling plugin failed" >&2; exit 1; }
+    m4="thumbv7em-none-eabihf"
+    for frames in 1 2; do
+        elf="$work/$m4-1-$frames.elf"
+        (cd "$work" && PCPROF_OUT="$work/pc-$frames.txt" timeout 300 qemu-system-arm -machine mps2-an386 \
+            -cpu cortex-m4 -nographic -monitor none -serial none -semihosting-config enable=on,target=native \
+            -icount shift=0 -kernel "$elf" -plugin "$work/libpcprof.so" -d plugin -D "$work/pcprof.log" >/dev/null) \
+            || { echo "mcu bench: profiling run failed" >&2; exit 1; }
+    done
+    echo "Cortex-M4F, 1 band of 240x240, instructions per frame by stage:"
+    echo
+    python3 "$root/benches/mcu-profile.py" "$work/$m4-1-1.elf" "$work/pc-1.txt" "$work/$m4-1-2.elf" "$work/pc-2.txt" 14457
+else
+    echo "(stage profile skipped: needs python3 and llvm-addr2line)"
+fi

@@ -395,8 +395,10 @@ impl<const V: usize> Setup<V> {
     /// Hands every covered run of pixels to `sink` as [`Span`]s, row by row, left to right:
     /// one span per row when the triangle [`is_affine`](Setup::is_affine), else one per
     /// `subspan` (>= 1) pixels with exact perspective-correct varyings at its first pixel.
-    #[inline]
-    pub fn for_each_span(&self, subspan: u32, sink: &mut impl SpanSink<V>) {
+    ///
+    /// The sink is called through `dyn`: one copy of this loop per varying count instead of
+    /// one per shader (flash), at the cost of an indirect call per span.
+    pub fn for_each_span(&self, subspan: u32, sink: &mut dyn SpanSink<V>) {
         let subspan = subspan.max(1) as i32;
         for y in self.y0..=self.y1 {
             // Rows are measured from the origin row in frame coordinates (see `new`).
@@ -472,7 +474,7 @@ impl<const V: usize> Setup<V> {
     /// leave 0..=2^30 (triangles touching the near or far plane), pixels go one by one, clamped.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn emit(&self, sink: &mut impl SpanSink<V>, y: i32, xs: i32, xe: i32, z: i64, v: [i32; V], dv: [i32; V]) {
+    fn emit(&self, sink: &mut dyn SpanSink<V>, y: i32, xs: i32, xe: i32, z: i64, v: [i32; V], dv: [i32; V]) {
         let (len, dz) = (xe - xs, (self.z_dx >> 10) as i32);
         let first = z >> 10;
         let last = first + dz as i64 * (len - 1) as i64;

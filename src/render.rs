@@ -973,7 +973,7 @@ fn put<C: FrameColor, D: DepthBuffer>(band: &mut Band<'_, C, D>, x: i32, y: i32,
 }
 
 fn depth_q30(z: f32) -> u32 {
-    (z * (1u32 << 30) as f32) as u32
+    ((z * (1u32 << 30) as f32) as u32).min(1 << 30)
 }
 
 fn plot<C: FrameColor, D: DepthBuffer>(band: &mut Band<'_, C, D>, p: &ScreenVertex, c: C, stats: &mut Stats) {

@@ -341,7 +341,7 @@ impl<'a> Sampler<'a> {
 /// for such a texture.
 #[derive(Clone, Copy, Debug)]
 pub struct Repeat565<'a> {
-    texels: &'a [u8],
+    texels: &'a [[u8; 2]],
     u_mask: i32,
     v_mask: i32,
     width_shift: u32,
@@ -357,7 +357,7 @@ impl<'a> Repeat565<'a> {
             && sampler.u.mask >= 0
             && sampler.v.mask >= 0;
         fits.then_some(Repeat565 {
-            texels: t.texels,
+            texels: t.texels.as_chunks::<2>().0,
             u_mask: sampler.u.mask,
             v_mask: sampler.v.mask,
             width_shift: t.width.trailing_zeros(),
@@ -369,7 +369,7 @@ impl<'a> Repeat565<'a> {
     #[must_use]
     pub fn sample(&self, u: i32, v: i32) -> [u8; 3] {
         let at = ((((v >> 16) & self.v_mask) << self.width_shift) | ((u >> 16) & self.u_mask)) as usize;
-        match self.texels.get(2 * at..2 * at + 2) {
+        match self.texels.get(at) {
             Some(b) => {
                 let [r, g, b, _] = crate::format::decode_texel(TextureFormat::Rgb565, b);
                 [r, g, b]
@@ -384,7 +384,9 @@ impl<'a> Repeat565<'a> {
 #[must_use]
 pub fn modulate(c: [u8; 3], light: [i32; 3]) -> [u8; 3] {
     core::array::from_fn(|k| {
-        let l = light[k].clamp(0, 1 << 16) as u32;
+        // 65535 gives what 65536 would for every 8-bit c (c·65535 + 2^15 >> 16 == c), and
+        // clamping to 16 bits is one instruction (usat) on Cortex-M.
+        let l = light[k].clamp(0, 0xffff) as u32;
         ((c[k] as u32 * l + (1 << 15)) >> 16) as u8
     })
 }

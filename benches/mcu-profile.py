@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""Where a firmware's instructions go, by pipeline stage.
+
+Usage: mcu-profile.py ELF1 PROF1 ELF2 PROF2 COVERED
+  ELFn/PROFn: the firmware rendering n frames and its per-address instruction counts
+  (benches/qemu-pcprof); COVERED: covered pixels per frame.
+Prints a markdown table of instructions per frame (2 frames - 1 frame) per stage. Each
+executed address is attributed, through its inlining chain (llvm-addr2line), to the first
+stage below whose function appears in the chain.
+"""
+import collections
+import json
+import subprocess
+import sys
+
+STAGES = [
+    ("pixel loop (depth test, texel, light, store)", ["SpanSink"]),
+    ("rows and spans (edges, plane or exact varyings per run)", ["for_each_span"]),
+    ("triangle set-up (edges, depth plane, affine test)", ["Setup", "raster::facing"]),
+    ("lighting per vertex", ["Lights", "sqrtf"]),
+    ("clipping and projection", ["clip_triangle", "project", "outside_view"]),
+    ("vertex fetch, transform, culling, fan-out", ["draw_triangle", "vertex_varyings", "draw_polygon", "fill_with",
+                                                     "format::Mesh", "fill", "draw_mesh_with", "draw_all"]),
+    ("band clear", ["Band", "clear", "memset", "memclr"]),
+    ("memcpy", ["memcpy"]),
+]
+
+
+def stages(elf, prof):
+    rows = [line.split() for line in open(prof)]
+    out = subprocess.run(["llvm-addr2line", "--output-style=JSON", "-f", "-i", "-C", "-e", elf],
+                         input="\n".join("0x" + r[0] for r in rows) + "\n",
+                         capture_output=True, text=True, check=True).stdout.strip().split("\n")
+    total = collections.Counter()
+    for line, (_, count) in zip(out, rows):
+        names = " | ".join(f["FunctionName"] for f in json.loads(line)["Symbol"])
+        stage = next((s for s, keys in STAGES if any(k in names for k in keys)), "other (start-up, firmware, soft-float helpers)")
+        total[stage] += int(count)
+    return total
+
+
+def main():
+    elf1, prof1, elf2, prof2, covered = sys.argv[1:6]
+    one, two = stages(elf1, prof1), stages(elf2, prof2)
+    covered = int(covered)
+    print("| stage | insns per frame | per covered pixel |")
+    print("| --- | ---: | ---: |")
+    total = 0
+    for stage in [s for s, _ in STAGES] + ["other (start-up, firmware, soft-float helpers)"]:
+        per_frame = two[stage] - one[stage]
+        total += per_frame
+        print(f"| {stage} | {per_frame} | {per_frame / covered:.1f} |")
+    print(f"| total | {total} | {total / covered:.1f} |")
+
+
+if __name__ == "__main__":
+    main()
