@@ -70,8 +70,20 @@ pub fn outside_view(p: [Vec4; 3]) -> bool {
 /// Clips triangle `tri` into `out`.
 pub fn clip_triangle(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) -> ClipResult {
     out.clear();
-    let finite = tri.iter().all(|v| v.pos.is_finite() && v.varyings.iter().all(|a| a.is_finite()));
-    if !finite || outside_view([tri[0].pos, tri[1].pos, tri[2].pos]) {
+    let positions = [tri[0].pos, tri[1].pos, tri[2].pos];
+    if !positions.iter().all(|p| p.is_finite()) || outside_view(positions) {
+        return ClipResult::Outside;
+    }
+    clip_visible(tri, planes, out)
+}
+
+/// [`clip_triangle`] for a triangle whose positions are known to be finite and not wholly
+/// outside a view plane (the renderer checks that before lighting).
+pub(crate) fn clip_visible(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) -> ClipResult {
+    out.clear();
+    // `a · 0` is 0 for every finite `a` and NaN for infinities and NaN: one multiply-add each.
+    let junk: f32 = tri.iter().flat_map(|v| v.varyings).map(|a| a * 0.0).sum();
+    if junk != 0.0 {
         return ClipResult::Outside;
     }
     let d: [[f32; 6]; 3] = core::array::from_fn(|i| planes.distances(tri[i].pos));

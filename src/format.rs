@@ -920,18 +920,39 @@ impl<'a> Mesh<'a> {
         self.flags() & mesh::FLAG_F32_POSITIONS != 0
     }
 
+    /// The vertex and index arrays, resolved once: what a renderer reads per vertex.
+    #[must_use]
+    pub fn arrays(&self) -> Arrays<'a> {
+        let nv = self.vertex_count() as usize;
+        let ni = self.u32_field(mesh::INDEX_COUNT) as usize;
+        let d = self.data;
+        // `parse` checked every section's range; an impossible one reads as empty (zeros).
+        let slice = |field: Range<usize>, len: usize| {
+            let at = self.u32_field(field) as usize;
+            d.get(at..at.saturating_add(len)).unwrap_or(&[])
+        };
+        Arrays {
+            positions: if self.has_f32_positions() {
+                Positions::F32(slice(mesh::POSITIONS, nv * 12).as_chunks().0)
+            } else {
+                Positions::Quantized(slice(mesh::POSITIONS, nv * POSITION_LEN).as_chunks().0)
+            },
+            normals: slice(mesh::NORMALS, nv * NORMAL_LEN).as_chunks().0,
+            uvs: self.has_uvs().then(|| slice(mesh::UVS, nv * UV_LEN).as_chunks().0),
+            colors: self.has_colors().then(|| slice(mesh::COLORS, nv * COLOR_LEN).as_chunks().0),
+            indices: if self.has_u32_indices() {
+                Indices::U32(slice(mesh::INDICES, ni * 4).as_chunks().0)
+            } else {
+                Indices::U16(slice(mesh::INDICES, ni * 2).as_chunks().0)
+            },
+        }
+    }
+
     /// Stored position of vertex `i`: the quantized values as floats, or the f32 position
     /// (zero if `i` is out of range). [`Mesh::dequantize`] turns it into a local position.
     #[must_use]
     pub fn position_stored(&self, i: u32) -> Vec3 {
-        let base = self.u32_field(mesh::POSITIONS) as usize;
-        if self.has_f32_positions() {
-            vec3_at(self.data, base + i as usize * 12)
-        } else {
-            let at = base + i as usize * POSITION_LEN;
-            let q = [u16_at(self.data, at), u16_at(self.data, at + 2), u16_at(self.data, at + 4)];
-            Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32)
-        }
+        self.arrays().position_stored(i)
     }
 
     /// Local position of vertex `i`.
@@ -943,25 +964,19 @@ impl<'a> Mesh<'a> {
     /// Quantized normal of vertex `i` (components scaled by [`NORMAL_ONE`]).
     #[must_use]
     pub fn normal_q(&self, i: u32) -> [i16; 3] {
-        let at = self.u32_field(mesh::NORMALS) as usize + i as usize * NORMAL_LEN;
-        [i16_at(self.data, at), i16_at(self.data, at + 2), i16_at(self.data, at + 4)]
+        self.arrays().normal_q(i)
     }
 
     /// Local normal of vertex `i` (unit length up to quantization).
     #[must_use]
     pub fn normal(&self, i: u32) -> Vec3 {
-        let q = self.normal_q(i);
-        Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32) / NORMAL_ONE
+        self.arrays().normal(i)
     }
 
     /// Quantized UV of vertex `i` (zero when the mesh has no UVs).
     #[must_use]
     pub fn uv_q(&self, i: u32) -> [u16; 2] {
-        if !self.has_uvs() {
-            return [0; 2];
-        }
-        let at = self.u32_field(mesh::UVS) as usize + i as usize * UV_LEN;
-        [u16_at(self.data, at), u16_at(self.data, at + 2)]
+        self.arrays().uv_q(i)
     }
 
     /// UV of vertex `i` ((0, 0) when the mesh has no UVs).
@@ -975,27 +990,19 @@ impl<'a> Mesh<'a> {
     /// RGBA colour of vertex `i` (opaque white when the mesh has none).
     #[must_use]
     pub fn color(&self, i: u32) -> [u8; 4] {
-        if !self.has_colors() {
-            return [255; 4];
-        }
-        bytes_at(self.data, self.u32_field(mesh::COLORS) as usize + i as usize * COLOR_LEN)
+        self.arrays().color(i)
     }
 
     /// Index `k` of the index list.
     #[must_use]
     pub fn index(&self, k: u32) -> u32 {
-        let base = self.u32_field(mesh::INDICES) as usize;
-        if self.has_u32_indices() {
-            u32_at(self.data, base + k as usize * 4)
-        } else {
-            u16_at(self.data, base + k as usize * 2) as u32
-        }
+        self.arrays().index(k)
     }
 
     /// The three vertex indices of triangle `t`.
     #[must_use]
     pub fn triangle(&self, t: u32) -> [u32; 3] {
-        [self.index(3 * t), self.index(3 * t + 1), self.index(3 * t + 2)]
+        self.arrays().triangle(t)
     }
 
     /// The mesh's sub-meshes.
@@ -1081,6 +1088,93 @@ const fn expand_table<const N: usize>(bits: u32) -> [u8; N] {
 }
 const EXPAND5: [u8; 32] = expand_table(5);
 const EXPAND6: [u8; 64] = expand_table(6);
+
+/// A mesh's vertex and index arrays as slices of fixed-size records, resolved once per draw
+/// (see [`Mesh::arrays`]) so that reading a vertex is one bounds check and a few loads.
+/// Out-of-range reads give zero, like every accessor here.
+#[derive(Clone, Copy, Debug)]
+pub struct Arrays<'a> {
+    positions: Positions<'a>,
+    normals: &'a [[u8; NORMAL_LEN]],
+    uvs: Option<&'a [[u8; UV_LEN]]>,
+    colors: Option<&'a [[u8; COLOR_LEN]]>,
+    indices: Indices<'a>,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Positions<'a> {
+    F32(&'a [[u8; 12]]),
+    Quantized(&'a [[u8; POSITION_LEN]]),
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Indices<'a> {
+    U16(&'a [[u8; 2]]),
+    U32(&'a [[u8; 4]]),
+}
+
+impl Arrays<'_> {
+    /// See [`Mesh::position_stored`].
+    #[inline]
+    #[must_use]
+    pub fn position_stored(&self, i: u32) -> Vec3 {
+        match self.positions {
+            Positions::F32(p) => p.get(i as usize).map_or(Vec3::ZERO, |r| vec3_at(r, 0)),
+            Positions::Quantized(p) => p
+                .get(i as usize)
+                .map_or(Vec3::ZERO, |r| Vec3::new(u16_at(r, 0) as f32, u16_at(r, 2) as f32, u16_at(r, 4) as f32)),
+        }
+    }
+
+    /// See [`Mesh::normal_q`].
+    #[inline]
+    #[must_use]
+    pub fn normal_q(&self, i: u32) -> [i16; 3] {
+        self.normals.get(i as usize).map_or([0; 3], |r| [i16_at(r, 0), i16_at(r, 2), i16_at(r, 4)])
+    }
+
+    /// See [`Mesh::normal`].
+    #[inline]
+    #[must_use]
+    pub fn normal(&self, i: u32) -> Vec3 {
+        let q = self.normal_q(i);
+        Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32) / NORMAL_ONE
+    }
+
+    /// See [`Mesh::uv_q`].
+    #[inline]
+    #[must_use]
+    pub fn uv_q(&self, i: u32) -> [u16; 2] {
+        self.uvs.and_then(|u| u.get(i as usize)).map_or([0; 2], |r| [u16_at(r, 0), u16_at(r, 2)])
+    }
+
+    /// See [`Mesh::color`].
+    #[inline]
+    #[must_use]
+    pub fn color(&self, i: u32) -> [u8; 4] {
+        match self.colors {
+            Some(c) => c.get(i as usize).copied().unwrap_or([0; 4]),
+            None => [255; 4],
+        }
+    }
+
+    /// See [`Mesh::index`].
+    #[inline]
+    #[must_use]
+    pub fn index(&self, k: u32) -> u32 {
+        match self.indices {
+            Indices::U16(x) => x.get(k as usize).map_or(0, |r| u16::from_le_bytes(*r) as u32),
+            Indices::U32(x) => x.get(k as usize).map_or(0, |r| u32::from_le_bytes(*r)),
+        }
+    }
+
+    /// See [`Mesh::triangle`].
+    #[inline]
+    #[must_use]
+    pub fn triangle(&self, t: u32) -> [u32; 3] {
+        [self.index(3 * t), self.index(3 * t + 1), self.index(3 * t + 2)]
+    }
+}
 
 /// Decodes one stored texel to RGBA8.
 #[inline(always)]

@@ -1,8 +1,8 @@
 //! The pipeline: model → (cull, transform, light) → clip → project → rasterize → shade.
 
 use crate::camera::Camera;
-use crate::clip::{clip_triangle, ClipResult, ClipVertex, Planes, Polygon};
-use crate::format::{Material, Mesh, Model};
+use crate::clip::{clip_visible, ClipResult, ClipVertex, Planes, Polygon};
+use crate::format::{Arrays, Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3, Vec4};
 use crate::raster::{facing, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS};
 use crate::shade::{modulate, Filter, Lights, PixelLights, Repeat565, Sampler};
@@ -284,6 +284,7 @@ struct DrawSetup<'a> {
     flip: bool,
     uv: ([f32; 2], [f32; 2]),
     mesh: Mesh<'a>,
+    arrays: Arrays<'a>,
 }
 
 impl<'a> DrawSetup<'a> {
@@ -297,6 +298,7 @@ impl<'a> DrawSetup<'a> {
             rotation: crate::math::is_rotation(&normals),
             flip: Mat3::from_mat4(world).determinant() < 0.0,
             uv: mesh.uv_transform(),
+            arrays: mesh.arrays(),
             mesh,
         }
     }
@@ -464,8 +466,8 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     sampler: Option<&Sampler<'_>>,
     stats: &mut Stats,
 ) -> TriangleRows {
-    let idx = s.mesh.triangle(t);
-    let qv = idx.map(|i| s.mesh.position_stored(i).extend(1.0));
+    let idx = s.arrays.triangle(t);
+    let qv = idx.map(|i| s.arrays.position_stored(i).extend(1.0));
     let clip = qv.map(|p| s.mvp * p);
     if crate::clip::outside_view(clip) || !clip.iter().all(|c| c.is_finite()) {
         stats.culled_frustum += 1;
@@ -497,7 +499,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     }
     let tri = vertex_varyings(ctx, s, &idx, &qv, &clip, sampler);
     let mut poly = Polygon::new();
-    match clip_triangle(&tri, &ctx.planes, &mut poly) {
+    match clip_visible(&tri, &ctx.planes, &mut poly) {
         ClipResult::Outside => {
             stats.culled_frustum += 1;
             TriangleRows::EMPTY
@@ -601,7 +603,7 @@ fn vertex_varyings<const L: usize>(
 ) -> [ClipVertex; 3] {
     let world: [Vec3; 3] = core::array::from_fn(|k| (s.model_q * qv[k]).truncate());
     let normal = |k: usize| {
-        let n = s.normals * s.mesh.normal(idx[k]);
+        let n = s.normals * s.arrays.normal(idx[k]);
         if s.rotation {
             n
         } else {
@@ -632,7 +634,7 @@ fn vertex_varyings<const L: usize>(
     };
     let tex_size = sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * ONE, sm.height() as f32 * ONE));
     core::array::from_fn(|k| {
-        let uv = s.mesh.uv_q(idx[k]);
+        let uv = s.arrays.uv_q(idx[k]);
         let (o, sc) = s.uv;
         let mut varyings = [0.0; MAX_VARYINGS];
         varyings[U] = (o[0] + uv[0] as f32 * sc[0]) * tex_size.0;
@@ -642,7 +644,7 @@ fn vertex_varyings<const L: usize>(
             varyings[NORMAL..NORMAL + 3].copy_from_slice(&(n * ONE).to_array());
             varyings[POSITION..POSITION + 3].copy_from_slice(&(world[k] * ONE).to_array());
         } else {
-            let c = s.mesh.color(idx[k]);
+            let c = s.arrays.color(idx[k]);
             for ch in 0..3 {
                 varyings[LIGHT + ch] = lit[k].0[ch] * (c[ch] as f32 / 255.0) * ONE;
             }
