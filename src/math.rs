@@ -152,6 +152,36 @@ pub fn normal_matrix(m: &Mat4) -> Mat3 {
     m3.inverse().transpose()
 }
 
+/// `max(a, b)` by comparison, `b` when `a` is NaN (as `f32::max` for a NaN `a`): `f32::max`
+/// is a library call (`fmaxf`) on Cortex-M4F, whose FPU has no max instruction.
+#[inline(always)]
+#[must_use]
+pub fn max(a: f32, b: f32) -> f32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `min(a, b)` by comparison, `b` when `a` is NaN (see [`max`]).
+#[inline(always)]
+#[must_use]
+pub fn min(a: f32, b: f32) -> f32 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `x` clamped to 0..=1, 0 for NaN.
+#[inline(always)]
+#[must_use]
+pub fn clamp01(x: f32) -> f32 {
+    min(max(x, 0.0), 1.0)
+}
+
 /// Whether `m` is a rotation (orthonormal columns, to 1e-6): it keeps unit vectors unit.
 #[must_use]
 pub fn is_rotation(m: &Mat3) -> bool {
@@ -168,6 +198,15 @@ pub fn is_rotation(m: &Mat3) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn max_min_clamp_match_the_float_methods() {
+        for (a, b) in [(1.0f32, 2.0), (2.0, 1.0), (-0.5, 0.0), (f32::NAN, 0.0), (3.0, 3.0)] {
+            assert_eq!(max(a, b).to_bits(), a.max(b).to_bits(), "max({a}, {b})");
+            assert_eq!(min(a, b).to_bits(), a.min(b).to_bits(), "min({a}, {b})");
+        }
+        assert_eq!([clamp01(-1.0), clamp01(0.25), clamp01(7.0), clamp01(f32::NAN)], [0.0, 0.25, 1.0, 0.0]);
+    }
 
     #[test]
     fn rotations_are_recognised() {

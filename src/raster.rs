@@ -25,6 +25,8 @@
 //! Every value here is a function of the triangle and the pixel only, never of the band being
 //! drawn, so a frame drawn in bands is bit-identical to the frame drawn whole.
 
+use crate::math::{max, min};
+
 /// The most varyings a vertex carries.
 pub const MAX_VARYINGS: usize = 8;
 
@@ -252,7 +254,7 @@ impl<const V: usize> Setup<V> {
         let z_at_origin = a.z + gx * (ox - a.x) as f32 + gy * (oy - a.y) as f32;
         let to_fixed = |v: f32| (v * Z_ONE) as i64;
 
-        let max_w = a.inv_w.max(b.inv_w).max(c.inv_w);
+        let max_w = max(max(a.inv_w, b.inv_w), c.inv_w);
         let norm = |q: f32| ((q / max_w * 65535.0) as u32).max(1);
 
         let mut v0 = [0; V];
@@ -319,7 +321,10 @@ impl<const V: usize> Setup<V> {
     /// triangle (see [`Setup::allow_affine`]), for a segment of one row.
     #[inline]
     fn linear_within(&self, (a, qa): &([i32; V], u64), (b, qb): &([i32; V], u64)) -> bool {
-        let ratio = qa.abs_diff(*qb) as f32 / (*qa).min(*qb).max(1) as f32;
+        // The ratio from the top 32 bits of both (u64 to f32 is a library call on Cortex-M).
+        let shift = (64 - (*qa).max(*qb).leading_zeros()).saturating_sub(32);
+        let top = |q: u64| (q >> shift) as u32;
+        let ratio = top(qa.abs_diff(*qb)) as f32 / top((*qa).min(*qb)).max(1) as f32;
         (0..V).all(|k| (b[k].wrapping_sub(a[k]) as f32).abs() * ratio <= self.tolerance[k])
     }
 
@@ -337,7 +342,7 @@ impl<const V: usize> Setup<V> {
         let ratio = (q_max - q_min) / q_min;
         let within = (0..V).all(|k| {
             let (d1, d2) = (self.d1[k] as f32, self.d2[k] as f32);
-            let range = d1.max(d2).max(0.0) - d1.min(d2).min(0.0);
+            let range = max(max(d1, d2), 0.0) - min(min(d1, d2), 0.0);
             range * ratio <= 4.0 * tolerance[k] as f32
         });
         self.affine = within.then(|| Planes::new(&self.edges, self.area, &self.v0, &self.d1, &self.d2));

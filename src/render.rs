@@ -5,7 +5,7 @@ use crate::clip::{clip_visible, ClipResult, ClipVertex, Planes, Polygon};
 use crate::format::{Arrays, Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3, Vec4};
 use crate::raster::{facing, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS};
-use crate::shade::{modulate, Filter, Lights, PixelLights, Repeat565, Sampler};
+use crate::shade::{modulate, Filter, Lights, PixelLights, PreparedLights, Repeat565, Sampler};
 use crate::target::{Band, DepthBuffer, DepthCell, FrameColor, NoDepth, GUARD_HALF_EXTENT};
 
 /// How surfaces are lit.
@@ -239,6 +239,7 @@ struct Context<'l, const L: usize> {
     vp: Mat4,
     eye: Vec3,
     lights: &'l Lights<L>,
+    vertex_lights: PreparedLights<L>,
     pixel_lights: PixelLights<L>,
     opts: RenderOptions,
     planes: Planes,
@@ -253,6 +254,7 @@ impl<'l, const L: usize> Context<'l, L> {
             vp: camera.view_projection(),
             eye: camera.eye,
             lights,
+            vertex_lights: lights.prepared(),
             pixel_lights: PixelLights::new(lights),
             opts: *opts,
             planes: Planes { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
@@ -625,11 +627,11 @@ fn vertex_varyings<const L: usize>(
                 n = -n;
             }
             let centre = (p[0] + p[1] + p[2]) / 3.0;
-            [(lights.at(centre, n), lights.specular_at(centre, n, eye)); 3]
+            [(ctx.vertex_lights.at(centre, n), lights.specular_at(centre, n, eye)); 3]
         }
         Shading::Gouraud => core::array::from_fn(|k| {
             let n = normal(k);
-            (lights.at(world[k], n), lights.specular_at(world[k], n, eye))
+            (ctx.vertex_lights.at(world[k], n), lights.specular_at(world[k], n, eye))
         }),
     };
     let tex_size = sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * ONE, sm.height() as f32 * ONE));

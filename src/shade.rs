@@ -9,7 +9,7 @@
 use heapless::Vec;
 
 use crate::format::{Light, LightKind, Model, Texture, TextureFormat, Wrap};
-use crate::math::{normalize_or_zero, Vec3};
+use crate::math::{clamp01, max, normalize_or_zero, Vec3};
 
 /// Ambient light plus up to `N` lights.
 #[derive(Clone, Debug, Default)]
@@ -97,16 +97,47 @@ impl<const N: usize> Lights<N> {
     /// Light reaching a surface at `p` with unit normal `n`, each channel clamped to 0..=1.
     #[must_use]
     pub fn at(&self, p: Vec3, n: Vec3) -> Vec3 {
+        self.prepared().at(p, n)
+    }
+
+    /// The lights with their fixed directions normalised once, for lighting many vertices.
+    #[must_use]
+    pub fn prepared(&self) -> PreparedLights<N> {
+        let mut lights = Vec::new();
+        for l in &self.lights {
+            let vector = match l.kind {
+                LightKind::Directional => normalize_or_zero(-l.vector),
+                LightKind::Point => l.vector,
+                LightKind::Hemispheric => normalize_or_zero(l.vector),
+            };
+            let _ = lights.push(Light { vector, ..*l });
+        }
+        PreparedLights { ambient: self.ambient, lights }
+    }
+}
+
+/// [`Lights`] ready for [`Lights::at`] per vertex: each directional light's vector is the unit
+/// vector towards the light, each hemispheric light's the unit up vector.
+#[derive(Clone, Debug, Default)]
+pub struct PreparedLights<const N: usize> {
+    ambient: Vec3,
+    lights: Vec<Light, N>,
+}
+
+impl<const N: usize> PreparedLights<N> {
+    /// See [`Lights::at`].
+    #[must_use]
+    pub fn at(&self, p: Vec3, n: Vec3) -> Vec3 {
         let mut sum = self.ambient;
         for l in &self.lights {
             let k = match l.kind {
-                LightKind::Directional => n.dot(normalize_or_zero(-l.vector)).max(0.0),
-                LightKind::Point => n.dot(normalize_or_zero(l.vector - p)).max(0.0),
-                LightKind::Hemispheric => 0.5 + 0.5 * n.dot(normalize_or_zero(l.vector)),
+                LightKind::Directional => max(n.dot(l.vector), 0.0),
+                LightKind::Point => max(n.dot(normalize_or_zero(l.vector - p)), 0.0),
+                LightKind::Hemispheric => 0.5 + 0.5 * n.dot(l.vector),
             };
             sum += l.diffuse * (k * l.intensity);
         }
-        sum.clamp(Vec3::ZERO, Vec3::ONE)
+        Vec3::new(clamp01(sum.x), clamp01(sum.y), clamp01(sum.z))
     }
 }
 
