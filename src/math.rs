@@ -46,13 +46,6 @@ pub fn powf(x: f32, y: f32) -> f32 {
     libm::powf(x, y)
 }
 
-/// `x` rounded to the nearest integer, halves away from zero (libm).
-#[inline]
-#[must_use]
-pub fn round(x: f32) -> f32 {
-    libm::roundf(x)
-}
-
 /// `floor(x) as i32` (saturating; NaN gives 0) without a float `floor`, which Cortex-M4F's
 /// FPU lacks: truncate, then step down where truncation went up.
 #[inline]

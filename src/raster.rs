@@ -192,14 +192,16 @@ pub const MAX_COORD: i32 = 1 << 24;
 pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
     // Clipping keeps triangles inside the guard band, but float rounding (or a denormal w) can
     // still push a vertex out; the integer ranges above hold only inside, so refuse the rest.
-    let span = |c: fn(&ScreenVertex) -> i32| {
-        let (lo, hi) = tri.iter().map(c).fold((i32::MAX, i32::MIN), |(l, h), v| (l.min(v), h.max(v)));
-        lo > -MAX_COORD && hi < MAX_COORD && (hi as i64 - lo as i64) < MAX_EXTENT as i64
+    let span = |[a, b, c]: [i32; 3]| {
+        let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+        // Both within ±2^24, so the difference fits i32.
+        lo > -MAX_COORD && hi < MAX_COORD && hi - lo < MAX_EXTENT
     };
-    if !span(|v| v.x) || !span(|v| v.y) || tri.iter().any(|v| !(v.inv_w > 0.0 && v.inv_w.is_finite())) {
+    let [p0, p1, p2] = tri;
+    let w_ok = |w: f32| w > 0.0 && w < f32::INFINITY;
+    if !span([p0.x, p1.x, p2.x]) || !span([p0.y, p1.y, p2.y]) || !(w_ok(p0.inv_w) && w_ok(p1.inv_w) && w_ok(p2.inv_w)) {
         return Err(Reject::OutsideGuardBand);
     }
-    let [p0, p1, p2] = tri;
     // Coordinates are < 2^15 apart (checked above): the products fit i64 easily.
     let area = (p1.x - p0.x) as i64 * (p2.y - p0.y) as i64 - (p2.x - p0.x) as i64 * (p1.y - p0.y) as i64;
     if area == 0 {
@@ -409,16 +411,16 @@ impl<const V: usize> Setup<V> {
             // Rows are measured from the origin row in frame coordinates (see `new`).
             let dy = y - self.origin_row;
             let Some((lo, hi)) = self.row_span(dy) else { continue };
-            let e: [i32; 3] = core::array::from_fn(|k| {
-                let edge = &self.edges[k];
-                edge.c + edge.b * 16 * dy + edge.a * 16 * lo
-            });
             let z = self.z_origin + self.z_dx * lo as i64 + self.z_dy * dy as i64;
             if let Some(p) = &self.affine {
                 let (v, dv) = p.at(lo, dy);
                 self.emit(sink, y, lo, hi + 1, z, v, dv);
                 continue;
             }
+            let e: [i32; 3] = core::array::from_fn(|k| {
+                let edge = &self.edges[k];
+                edge.c + edge.b * 16 * dy + edge.a * 16 * lo
+            });
             let e_at = |x: i32| -> [i32; 3] { core::array::from_fn(|k| e[k] + self.edges[k].a * 16 * (x - lo)) };
             let exact = |x: i32| self.varyings_at(e_at(x));
             let adaptive = subspan == 1 && self.tolerance.iter().any(|&t| t > 0.0);
@@ -552,7 +554,7 @@ impl<const V: usize> Planes<V> {
             p.origin[k] = v0[k] as f32 + d1 * b1o + d2 * b2o;
             p.gx[k] = d1 * b1x + d2 * b2x;
             p.gy[k] = d1 * b1y + d2 * b2y;
-            p.step[k] = crate::math::round(p.gx[k]) as i32;
+            p.step[k] = crate::math::floor_to_i32(p.gx[k] + 0.5);
         }
         p
     }
