@@ -199,7 +199,8 @@ pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i6
     };
     let [p0, p1, p2] = tri;
     let w_ok = |w: f32| w > 0.0 && w < f32::INFINITY;
-    if !span([p0.x, p1.x, p2.x]) || !span([p0.y, p1.y, p2.y]) || !(w_ok(p0.inv_w) && w_ok(p1.inv_w) && w_ok(p2.inv_w)) {
+    let inside = span([p0.x, p1.x, p2.x]) && span([p0.y, p1.y, p2.y]);
+    if !(inside && w_ok(p0.inv_w) && w_ok(p1.inv_w) && w_ok(p2.inv_w)) {
         return Err(Reject::OutsideGuardBand);
     }
     // Coordinates are < 2^15 apart (checked above): the products fit i64 easily.
