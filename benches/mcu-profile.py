@@ -18,9 +18,10 @@ STAGES = [
     ("rows and spans (edges, plane or exact varyings per run)", ["for_each_span"]),
     ("triangle set-up (edges, depth plane, affine test)", ["Setup", "raster::facing"]),
     ("lighting per vertex", ["Lights", "sqrtf"]),
-    ("clipping and projection", ["clip_triangle", "project", "outside_view"]),
+    ("clipping and projection", ["clip_triangle", "clip_visible", "project", "outside_view"]),
     ("vertex fetch, transform, culling, fan-out", ["draw_triangle", "vertex_varyings", "draw_polygon", "fill_with",
-                                                     "format::Mesh", "fill", "draw_mesh_with", "draw_all"]),
+                                                     "format::Mesh", "format::Arrays", "TriangleRows", "fill", "draw_mesh_with",
+                                                     "draw_all"]),
     ("band clear", ["Band", "clear", "memset", "memclr"]),
     ("memcpy", ["memcpy"]),
 ]

@@ -149,6 +149,9 @@ pub struct Setup<const V: usize> {
     z_origin: i64,
     z_dx: i64,
     z_dy: i64,
+    /// Every vertex depth is at least 2^-14 inside 0..=1: rounding in the plane and the
+    /// per-pixel steps (far below 2^-14) cannot leave 0..=2^30, so spans need no range check.
+    z_inside: bool,
     /// 1/w of each vertex, normalised so the largest is 2^16 - 1.
     inv_w: [u32; 3],
     /// Varyings at vertex 0 and their differences to vertices 1 and 2.
@@ -278,6 +281,7 @@ impl<const V: usize> Setup<V> {
             z_origin: to_fixed(z_at_origin),
             z_dx: to_fixed(gx * 16.0),
             z_dy: to_fixed(gy * 16.0),
+            z_inside: [a.z, b.z, c.z].iter().all(|&z| (Z_MARGIN..=1.0 - Z_MARGIN).contains(&z)),
             inv_w: [norm(a.inv_w), norm(b.inv_w), norm(c.inv_w)],
             v0,
             d1,
@@ -485,9 +489,10 @@ impl<const V: usize> Setup<V> {
     fn emit(&self, sink: &mut dyn SpanSink<V>, y: i32, xs: i32, xe: i32, z: i64, v: [i32; V], dv: [i32; V]) {
         let (len, dz) = (xe - xs, (self.z_dx >> 10) as i32);
         let first = z >> 10;
-        let last = first + dz as i64 * (len - 1) as i64;
         let x = self.x0 + xs;
-        if (0..=Z_MAX).contains(&first) && (0..=Z_MAX).contains(&last) {
+        let in_range = || (0..=Z_MAX).contains(&first) && (0..=Z_MAX).contains(&(first + dz as i64 * (len - 1) as i64));
+        debug_assert!(!self.z_inside || in_range(), "depth left 0..=2^30 in a z_inside triangle");
+        if self.z_inside || in_range() {
             sink.span(&Span { y, x, len: len as u32, z: first as u32, dz, v, dv });
             return;
         }
@@ -504,6 +509,9 @@ impl<const V: usize> Setup<V> {
 
 /// The largest depth value, the far plane: 2^30.
 const Z_MAX: i64 = 1 << 30;
+
+/// See `Setup::z_inside`.
+const Z_MARGIN: f32 = 1.0 / (1 << 14) as f32;
 
 /// A run of covered pixels on one row, with everything needed to step across it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -372,9 +372,9 @@ impl<'a> Sampler<'a> {
 /// for such a texture.
 #[derive(Clone, Copy, Debug)]
 pub struct Repeat565<'a> {
+    /// Exactly `width · height` texels, a power of two.
     texels: &'a [[u8; 2]],
     u_mask: i32,
-    v_mask: i32,
     width_shift: u32,
 }
 
@@ -383,24 +383,23 @@ impl<'a> Repeat565<'a> {
     #[must_use]
     pub fn new(sampler: &Sampler<'a>) -> Option<Self> {
         let t = &sampler.texture;
+        let texels = t.texels.as_chunks::<2>().0;
         let fits = t.format == TextureFormat::Rgb565
             && sampler.filter == Filter::Nearest
             && sampler.u.mask >= 0
-            && sampler.v.mask >= 0;
-        fits.then_some(Repeat565 {
-            texels: t.texels.as_chunks::<2>().0,
-            u_mask: sampler.u.mask,
-            v_mask: sampler.v.mask,
-            width_shift: t.width.trailing_zeros(),
-        })
+            && sampler.v.mask >= 0
+            && texels.len() == t.width as usize * t.height as usize;
+        fits.then_some(Repeat565 { texels, u_mask: sampler.u.mask, width_shift: t.width.trailing_zeros() })
     }
 
     /// RGB at texel coordinates `(u, v)` in 16.16 (black if the texture is short).
     #[inline(always)]
     #[must_use]
     pub fn sample(&self, u: i32, v: i32) -> [u8; 3] {
-        let at = ((((v >> 16) & self.v_mask) << self.width_shift) | ((u >> 16) & self.u_mask)) as usize;
-        match self.texels.get(at) {
+        // Row bits above the texture wrap away with the final mask (the size is a power of
+        // two), which is also what lets the compiler see that the index is in bounds.
+        let at = (((v >> 16) << self.width_shift) | ((u >> 16) & self.u_mask)) as usize;
+        match self.texels.get(at & self.texels.len().wrapping_sub(1)) {
             Some(b) => {
                 let [r, g, b, _] = crate::format::decode_texel(TextureFormat::Rgb565, b);
                 [r, g, b]
