@@ -241,6 +241,8 @@ struct Context<'l, const L: usize> {
     lights: &'l Lights<L>,
     vertex_lights: PreparedLights<L>,
     pixel_lights: PixelLights<L>,
+    /// The specular colour in 8 bits (zero: specular off).
+    specular: [u8; 3],
     opts: RenderOptions,
     planes: Planes,
     window: Window,
@@ -255,6 +257,7 @@ impl<'l, const L: usize> Context<'l, L> {
             eye: camera.eye,
             lights,
             vertex_lights: lights.prepared(),
+            specular: lights.specular.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8),
             pixel_lights: PixelLights::new(lights),
             opts: *opts,
             planes: Planes { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
@@ -648,7 +651,9 @@ fn vertex_varyings<const L: usize>(
         } else {
             let c = s.arrays.color(idx[k]);
             for ch in 0..3 {
-                varyings[LIGHT + ch] = lit[k].0[ch] * (c[ch] as f32 / 255.0) * ONE;
+                // White (no vertex colours) scales by exactly 1: skip the division.
+                let scale = if c[ch] == 255 { 1.0 } else { c[ch] as f32 / 255.0 };
+                varyings[LIGHT + ch] = lit[k].0[ch] * scale * ONE;
             }
             varyings[SPECULAR] = lit[k].1 * ONE;
         }
@@ -804,7 +809,7 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
 ) -> Result<(), Reject> {
     let raster = (&ctx.window, ctx.opts.subspan);
     let cull = material.cull_back_faces;
-    let specular = ctx.lights.specular.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
+    let specular = ctx.specular;
     let pl = &ctx.pixel_lights;
     let white =
         || tri.iter().all(|v| v.varyings[LIGHT] == v.varyings[LIGHT + 1] && v.varyings[LIGHT] == v.varyings[LIGHT + 2]);
