@@ -201,7 +201,8 @@ pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i6
         lo > -MAX_COORD && hi < MAX_COORD && hi - lo < MAX_EXTENT
     };
     let [p0, p1, p2] = tri;
-    let w_ok = |w: f32| w > 0.0 && w < f32::INFINITY;
+    // 0 < 1/w < infinity (not NaN), on the bits: positive finite floats are 1..0x7f80_0000.
+    let w_ok = |w: f32| w.to_bits().wrapping_sub(1) < 0x7f7f_ffff;
     let inside = span([p0.x, p1.x, p2.x]) && span([p0.y, p1.y, p2.y]);
     if !(inside && w_ok(p0.inv_w) && w_ok(p1.inv_w) && w_ok(p2.inv_w)) {
         return Err(Reject::OutsideGuardBand);
@@ -573,5 +574,22 @@ impl<const V: usize> Planes<V> {
     fn at(&self, x: i32, y: i32) -> ([i32; V], [i32; V]) {
         let (x, y) = (x as f32, y as f32);
         (core::array::from_fn(|k| (self.origin[k] + self.gx[k] * x + self.gy[k] * y) as i32), self.step)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn facing_refuses_a_non_positive_or_non_finite_w() {
+        let v = |x: i32, y: i32, inv_w: f32| ScreenVertex { x, y, z: 0.5, inv_w, varyings: [0; MAX_VARYINGS] };
+        let tri = |w: f32| [v(0, 0, 1.0), v(160, 0, 1.0), v(0, 160, w)];
+        assert!(facing(&tri(0.5), false, false).is_ok());
+        assert!(facing(&tri(f32::MIN_POSITIVE / 2.0), false, false).is_ok(), "subnormal but positive");
+        assert!(facing(&tri(f32::MAX), false, false).is_ok());
+        for bad in [0.0, -0.0, -1.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN] {
+            assert_eq!(facing(&tri(bad), false, false), Err(Reject::OutsideGuardBand), "1/w = {bad}");
+        }
     }
 }
