@@ -483,7 +483,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     // computes below, so the decision is the same one the rasterizer would make.
     let in_front = clip.iter().all(|c| c.w > 0.0);
     let xy = in_front.then(|| clip.map(|c| project_xy(c, ctx.half)));
-    let mut area = None;
+    let (mut area, mut known_rows) = (None, None);
     if let Some(xy) = &xy {
         match facing(xy, material.cull_back_faces, s.flip) {
             Err(Reject::BackFace) => {
@@ -501,6 +501,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
             return rows;
         }
+        known_rows = Some(rows);
     }
     let tri = vertex_varyings(ctx, s, &idx, &qv, &clip, sampler);
     let mut poly = Polygon::new();
@@ -514,13 +515,13 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
                 Some(xy) => core::array::from_fn(|k| with_depth_and_varyings(&tri[k], xy[k])),
                 None => tri.map(|v| project(&v, ctx.half)),
             };
-            draw_polygon(band, ctx, s.flip, &screen, area, material, sampler, stats)
+            draw_polygon(band, ctx, s.flip, &screen, (area, known_rows), material, sampler, stats)
         }
         ClipResult::Clipped => {
             stats.clipped += 1;
             let screen: heapless::Vec<ScreenVertex, { crate::clip::MAX_CLIPPED }> =
                 poly.iter().map(|v| project(v, ctx.half)).collect();
-            draw_polygon(band, ctx, s.flip, &screen, None, material, sampler, stats)
+            draw_polygon(band, ctx, s.flip, &screen, (None, None), material, sampler, stats)
         }
     }
 }
@@ -536,14 +537,15 @@ fn fan_triangle(screen: &[ScreenVertex], k: usize, f: impl FnOnce(&[ScreenVertex
 }
 
 /// Draws a projected convex polygon (3 or more vertices) in the current mode and returns the
-/// rows it can touch. `area`: what [`facing`] gave for these very positions, when known.
+/// rows it can touch. `known`: what [`facing`] and [`TriangleRows::of`] gave for these very
+/// positions, when known.
 #[allow(clippy::too_many_arguments)]
 fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     flip: bool,
     screen: &[ScreenVertex],
-    area: Option<i64>,
+    (area, rows): (Option<i64>, Option<TriangleRows>),
     material: &Material,
     sampler: Option<&Sampler<'_>>,
     stats: &mut Stats,
@@ -585,7 +587,7 @@ fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
             }
         }
     }
-    TriangleRows::of(screen, band.height)
+    rows.unwrap_or_else(|| TriangleRows::of(screen, band.height))
 }
 
 fn count_reject(r: Reject, stats: &mut Stats) {
@@ -864,6 +866,7 @@ struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     color: &'b mut [C],
     depth: &'b mut D,
     width: usize,
+    rows: usize,
     first_row: i32,
     base: &'s B,
     lighting: &'s Lt,
@@ -877,15 +880,14 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
     #[inline(never)]
     fn span(&mut self, s: &Span<V>) {
         let len = s.len as usize;
-        let Some(start) = usize::try_from(s.y - self.first_row)
-            .ok()
-            .and_then(|row| row.checked_mul(self.width)?.checked_add(usize::try_from(s.x).ok()?))
-        else {
+        // The run must lie on one row of this band (the rasterizer guarantees it); checked
+        // anyway, in u32, where nothing can overflow (width and rows are at most 1536).
+        let (row, x) = ((s.y - self.first_row) as u32 as usize, s.x as u32 as usize);
+        if row >= self.rows || x >= self.width || len > self.width - x {
             return;
-        };
-        let (Some(colors), Some(cells)) =
-            (self.color.get_mut(start..start.saturating_add(len)), self.depth.cells(start, len))
-        else {
+        }
+        let start = row * self.width + x;
+        let (Some(colors), Some(cells)) = (self.color.get_mut(start..start + len), self.depth.cells(start, len)) else {
             return;
         };
         let (mut z, mut v) = (s.z, s.v);
@@ -949,6 +951,7 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
     setup.allow_affine(affine_tolerance::<V>());
     let mut shader = Shader::<C, D, B, Lt, DITHER> {
         width: band.width as usize,
+        rows: band.rows as usize,
         first_row: band.first_row as i32,
         color: &mut *band.color,
         depth: &mut band.depth,
