@@ -1,5 +1,5 @@
 //! Triangle rasterization: integer edge functions in 28.4 fixed point, exact spans per row,
-//! perspective-correct varyings, all in integers per pixel.
+//! perspective-correct varyings; the per-pixel loop only adds integers.
 //!
 //! # Numbers
 //! - Vertex positions are snapped to 1/16 pixel (28.4). The pipeline clips geometry to a guard
@@ -15,10 +15,11 @@
 //! - Depth is affine in screen space and interpolated from a plane in 24.40 fixed point
 //!   (`i64`); it reaches the depth buffer as 0..=2^30.
 //! - Varyings (texture coordinates, light, normals) are `i32` with 16 fractional bits,
-//!   interpolated with perspective-correct barycentrics `b_i = (E_i/w_i) / Σ(E_j/w_j)` computed
-//!   exactly every `subspan` pixels along a span and linearly in between (`subspan = 1`: every
-//!   pixel exact), or from one affine plane per varying when the triangle's depth range makes
-//!   that provably as good as a chosen tolerance ([`Setup::allow_affine`]).
+//!   interpolated with perspective-correct barycentrics `b_i = (E_i/w_i) / Σ(E_j/w_j)` (in f32,
+//!   whose basic operations round alike on every target) computed exactly every `subspan`
+//!   pixels along a span and linearly in between (`subspan = 1`: every pixel exact), or, within
+//!   a chosen tolerance ([`Setup::allow_affine`]), from one affine plane per varying (the whole
+//!   triangle) or exactly at the ends of runs as long as the tolerance allows (`subspan = 1`).
 //! - Pixels reach the shader as [`Span`]s: a run of pixels on one row with a first value and a
 //!   per-pixel step for depth and every varying, so the per-pixel loop only adds.
 //!
@@ -152,12 +153,15 @@ pub struct Setup<const V: usize> {
     /// Every vertex depth is at least 2^-14 inside 0..=1: rounding in the plane and the
     /// per-pixel steps (far below 2^-14) cannot leave 0..=2^30, so spans need no range check.
     z_inside: bool,
-    /// 1/w of each vertex, normalised so the largest is 2^16 - 1.
-    inv_w: [u32; 3],
+    /// 1/w of each vertex divided by the largest (so in (0, 1]).
+    inv_w: [f32; 3],
     /// Varyings at vertex 0 and their differences to vertices 1 and 2.
     v0: [i32; V],
     d1: [i32; V],
     d2: [i32; V],
+    /// `d1` and `d2` as floats, for the exact path.
+    d1f: [f32; V],
+    d2f: [f32; V],
     /// Twice the triangle's area in 1/256 pixel², positive.
     area: i64,
     /// Affine varyings when allowed (see [`Setup::allow_affine`]).
@@ -262,7 +266,7 @@ impl<const V: usize> Setup<V> {
         let to_fixed = |v: f32| (v * Z_ONE) as i64;
 
         let max_w = max(max(a.inv_w, b.inv_w), c.inv_w);
-        let norm = |q: f32| ((q / max_w * 65535.0) as u32).max(1);
+        let norm = |q: f32| q / max_w;
 
         let mut v0 = [0; V];
         let mut d1 = [0; V];
@@ -287,6 +291,8 @@ impl<const V: usize> Setup<V> {
             v0,
             d1,
             d2,
+            d1f: d1.map(|d| d as f32),
+            d2f: d2.map(|d| d as f32),
             area,
             affine: None,
             tolerance: [0.0; V],
@@ -301,25 +307,23 @@ impl<const V: usize> Setup<V> {
 
     /// Perspective-correct varyings where the edge functions are `e` (all >= 0), and
     /// `Σ E_k/w_k` there (proportional to the pixel's `1/w`).
+    ///
+    /// In f32, whose basic operations round the same on every target: the weights
+    /// `E_k · (1/w_k)` keep full relative precision however much the near vertex is magnified
+    /// by a large depth ratio, and one division serves every varying.
     #[inline(always)]
-    fn varyings_at(&self, e: [i32; 3]) -> ([i32; V], u64) {
-        // Full-precision weights E_k · (1/w_k): truncating E first loses the far vertices'
-        // weights when the near one is magnified by a large depth ratio.
-        let n = |k: usize| e[k].max(0) as u64 * self.inv_w[k] as u64;
+    fn varyings_at(&self, e: [i32; 3]) -> ([i32; V], f32) {
+        let n = |k: usize| e[k].max(0) as f32 * self.inv_w[k];
         let (n1, n2) = (n(1), n(2));
         let sum = n(0) + n1 + n2;
         let mut out = self.v0;
-        if sum == 0 {
-            return (out, sum);
+        if !(sum > 0.0) {
+            return (out, 0.0);
         }
-        // Bring the denominator below 2^16 so that (numerator << 16) fits in u32.
-        let s = (64 - sum.leading_zeros()).saturating_sub(16);
-        let den = (sum >> s) as u32;
-        let b1 = (((n1 >> s) as u32) << 16) / den;
-        let b2 = (((n2 >> s) as u32) << 16) / den;
-        for ((o, d1), d2) in out.iter_mut().zip(self.d1).zip(self.d2) {
-            let delta = d1 as i64 * b1 as i64 + d2 as i64 * b2 as i64;
-            *o = o.wrapping_add((delta >> 16) as i32);
+        let inv = 1.0 / sum;
+        let (b1, b2) = (n1 * inv, n2 * inv);
+        for k in 0..V {
+            out[k] = out[k].wrapping_add((self.d1f[k] * b1 + self.d2f[k] * b2) as i32);
         }
         (out, sum)
     }
@@ -328,11 +332,8 @@ impl<const V: usize> Setup<V> {
     /// at a segment's ends) stays within the tolerance: the same bound as for the whole
     /// triangle (see [`Setup::allow_affine`]), for a segment of one row.
     #[inline]
-    fn linear_within(&self, (a, qa): &([i32; V], u64), (b, qb): &([i32; V], u64)) -> bool {
-        // The ratio from the top 32 bits of both (u64 to f32 is a library call on Cortex-M).
-        let shift = (64 - (*qa).max(*qb).leading_zeros()).saturating_sub(32);
-        let top = |q: u64| (q >> shift) as u32;
-        let ratio = top(qa.abs_diff(*qb)) as f32 / top((*qa).min(*qb)).max(1) as f32;
+    fn linear_within(&self, (a, qa): &([i32; V], f32), (b, qb): &([i32; V], f32)) -> bool {
+        let ratio = (qa - qb).abs() / min(*qa, *qb);
         (0..V).all(|k| (b[k].wrapping_sub(a[k]) as f32).abs() * ratio <= self.tolerance[k])
     }
 
@@ -345,8 +346,8 @@ impl<const V: usize> Setup<V> {
     /// So when `range(v_k) · (q_max/q_min - 1) <= 4 · tolerance[k]` for every `k`, the whole
     /// triangle is drawn from one plane per varying, with no division per pixel or per row.
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
-        let q_min = self.inv_w.iter().min().copied().unwrap_or(1) as f32;
-        let q_max = self.inv_w.iter().max().copied().unwrap_or(1) as f32;
+        let [q0, q1, q2] = self.inv_w;
+        let (q_min, q_max) = (min(min(q0, q1), q2), max(max(q0, q1), q2));
         let ratio = (q_max - q_min) / q_min;
         let within = (0..V).all(|k| {
             let (d1, d2) = (self.d1[k] as f32, self.d2[k] as f32);
