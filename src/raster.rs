@@ -317,13 +317,14 @@ impl<const V: usize> Setup<V> {
         let (n1, n2) = (n(1), n(2));
         let sum = n(0) + n1 + n2;
         let mut out = self.v0;
-        if !(sum > 0.0) {
+        // Zero only where every edge function is (never inside a triangle).
+        if sum <= 0.0 {
             return (out, 0.0);
         }
         let inv = 1.0 / sum;
         let (b1, b2) = (n1 * inv, n2 * inv);
-        for k in 0..V {
-            out[k] = out[k].wrapping_add((self.d1f[k] * b1 + self.d2f[k] * b2) as i32);
+        for ((o, d1), d2) in out.iter_mut().zip(self.d1f).zip(self.d2f) {
+            *o = o.wrapping_add((d1 * b1 + d2 * b2) as i32);
         }
         (out, sum)
     }
