@@ -74,13 +74,16 @@ pub fn clip_triangle(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) 
     if !positions.iter().all(|p| p.is_finite()) || outside_view(positions) {
         return ClipResult::Outside;
     }
-    clip_visible(tri, planes, out)
+    match classify(tri, planes) {
+        ClipResult::Clipped => cut(tri, planes, out),
+        r => r,
+    }
 }
 
-/// [`clip_triangle`] for a triangle whose positions are known to be finite and not wholly
-/// outside a view plane (the renderer checks that before lighting).
-pub(crate) fn clip_visible(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) -> ClipResult {
-    out.clear();
+/// What [`clip_triangle`] would do with a triangle whose positions are known to be finite
+/// and not wholly outside a view plane (the renderer checks that before lighting), without
+/// cutting it: `Clipped` means it needs [`cut`].
+pub(crate) fn classify(tri: &[ClipVertex; 3], planes: &Planes) -> ClipResult {
     // `a · 0` is 0 for every finite `a` and NaN for infinities and NaN: one multiply-add each.
     let junk: f32 = tri.iter().flat_map(|v| v.varyings).map(|a| a * 0.0).sum();
     if junk != 0.0 {
@@ -88,8 +91,15 @@ pub(crate) fn clip_visible(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Pol
     }
     let d: [[f32; 6]; 3] = core::array::from_fn(|i| planes.distances(tri[i].pos));
     if d.iter().all(|di| di.iter().all(|&x| x >= 0.0)) {
-        return ClipResult::Inside;
+        ClipResult::Inside
+    } else {
+        ClipResult::Clipped
     }
+}
+
+/// Cuts `tri` by every plane into `out`: `Clipped`, or `Outside` when nothing is left.
+pub(crate) fn cut(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) -> ClipResult {
+    out.clear();
     let mut a: Polygon = tri.iter().copied().collect();
     for plane in 0..6 {
         let mut b = Polygon::new();

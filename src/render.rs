@@ -1,7 +1,7 @@
 //! The pipeline: model → (cull, transform, light) → clip → project → rasterize → shade.
 
 use crate::camera::Camera;
-use crate::clip::{clip_visible, ClipResult, ClipVertex, Planes, Polygon};
+use crate::clip::{classify, cut, ClipResult, ClipVertex, Planes, Polygon};
 use crate::format::{Arrays, Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3, Vec4};
 use crate::raster::{facing, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS};
@@ -471,12 +471,42 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     sampler: Option<&Sampler<'_>>,
     stats: &mut Stats,
 ) -> TriangleRows {
+    match front_end(ctx, s, t, material, sampler, band.height, stats) {
+        Front::Done(rows) => rows,
+        Front::Inside(screen, known) => draw_polygon(band, ctx, s.flip, &screen, known, material, sampler, stats),
+        Front::Clipped(tri) => draw_clipped(band, ctx, s.flip, &tri, material, sampler, stats),
+    }
+}
+
+/// What the per-triangle front end leaves to draw.
+enum Front {
+    /// Nothing to draw in this band; the rows it can touch (for [`RowCache`]).
+    Done(TriangleRows),
+    /// Projected, wholly inside the clipping planes, with what [`facing`] and
+    /// [`TriangleRows::of`] said when known.
+    Inside([ScreenVertex; 3], (Option<i64>, Option<TriangleRows>)),
+    /// Crosses a clipping plane: cut it first.
+    Clipped([ClipVertex; 3]),
+}
+
+/// Fetch, transform, cull, light and classify triangle `t`. Not inlined: its temporaries
+/// leave the stack before the rasterizer runs.
+#[inline(never)]
+fn front_end<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    t: u32,
+    material: &Material,
+    sampler: Option<&Sampler<'_>>,
+    height: u16,
+    stats: &mut Stats,
+) -> Front {
     let idx = s.arrays.triangle(t);
     let qv = idx.map(|i| s.arrays.position_stored(i).extend(1.0));
     let clip = qv.map(|p| s.mvp * p);
     if crate::clip::outside_view(clip) || !clip.iter().all(|c| c.is_finite()) {
         stats.culled_frustum += 1;
-        return TriangleRows::EMPTY;
+        return Front::Done(TriangleRows::EMPTY);
     }
     // Back faces are rejected before any lighting when the triangle is wholly in front of the
     // eye: projection keeps the winding, and the snapped positions are the ones `project`
@@ -488,7 +518,7 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         match facing(xy, material.cull_back_faces, s.flip) {
             Err(Reject::BackFace) => {
                 stats.culled_back_face += 1;
-                return TriangleRows::EMPTY;
+                return Front::Done(TriangleRows::EMPTY);
             }
             // Kept for the rasterizer if the triangle is drawn unclipped (same positions).
             Ok(a) => area = Some(a),
@@ -497,33 +527,50 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         // Rows of the unclipped triangle: a superset of what clipping leaves. A triangle that
         // cannot touch this band is not lit, clipped or set up here (a row cache learns its
         // rows for the later bands).
-        let rows = TriangleRows::of(xy, band.height);
+        let rows = TriangleRows::of(xy, height);
         if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
-            return rows;
+            return Front::Done(rows);
         }
         known_rows = Some(rows);
     }
     let tri = vertex_varyings(ctx, s, &idx, &qv, &clip, sampler);
-    let mut poly = Polygon::new();
-    match clip_visible(&tri, &ctx.planes, &mut poly) {
+    match classify(&tri, &ctx.planes) {
         ClipResult::Outside => {
             stats.culled_frustum += 1;
-            TriangleRows::EMPTY
+            Front::Done(TriangleRows::EMPTY)
         }
         ClipResult::Inside => {
             let screen: [ScreenVertex; 3] = match xy {
                 Some(xy) => core::array::from_fn(|k| with_depth_and_varyings(&tri[k], xy[k])),
                 None => tri.map(|v| project(&v, ctx.half)),
             };
-            draw_polygon(band, ctx, s.flip, &screen, (area, known_rows), material, sampler, stats)
+            Front::Inside(screen, (area, known_rows))
         }
-        ClipResult::Clipped => {
-            stats.clipped += 1;
-            let screen: heapless::Vec<ScreenVertex, { crate::clip::MAX_CLIPPED }> =
-                poly.iter().map(|v| project(v, ctx.half)).collect();
-            draw_polygon(band, ctx, s.flip, &screen, (None, None), material, sampler, stats)
-        }
+        ClipResult::Clipped => Front::Clipped(tri),
     }
+}
+
+/// Cuts a triangle that crosses a clipping plane and draws what is left. Not inlined: the
+/// polygon buffers stay off the stack of the common, unclipped path.
+#[inline(never)]
+fn draw_clipped<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    flip: bool,
+    tri: &[ClipVertex; 3],
+    material: &Material,
+    sampler: Option<&Sampler<'_>>,
+    stats: &mut Stats,
+) -> TriangleRows {
+    let mut poly = Polygon::new();
+    if cut(tri, &ctx.planes, &mut poly) == ClipResult::Outside {
+        stats.culled_frustum += 1;
+        return TriangleRows::EMPTY;
+    }
+    stats.clipped += 1;
+    let screen: heapless::Vec<ScreenVertex, { crate::clip::MAX_CLIPPED }> =
+        poly.iter().map(|v| project(v, ctx.half)).collect();
+    draw_polygon(band, ctx, flip, &screen, (None, None), material, sampler, stats)
 }
 
 /// Fan triangle `k` (1..len-1) of a convex polygon: the polygon itself when it is a triangle
@@ -932,8 +979,10 @@ fn affine_tolerance<const V: usize>() -> [u32; V] {
     core::array::from_fn(|k| if k == U || k == V_ { 1 << 12 } else { other })
 }
 
+// Not inlined: each variant's `Setup` gets its own frame instead of all of them sharing (and
+// enlarging) the caller's.
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[inline(never)]
 fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
     (window, subspan): (&Window, u32),

@@ -16,7 +16,10 @@
 //!
 //! Stack: cortex-m-rt's `paint-stack` feature fills `_stack_end.._stack_start` (everything
 //! above the statics) with `0xCCCC_CCCC` before `main`; after the frame the lowest word that
-//! no longer holds the pattern gives the high-water mark.
+//! no longer holds the pattern gives the high-water mark of the whole firmware. For the core
+//! alone, the free stack below `main`'s frame is painted again just before the first frame,
+//! and after each band's draw call of that frame (before any semihosting call) the lowest
+//! touched word, measured from the stack pointer at the call, gives the renderer's own use.
 #![no_std]
 #![no_main]
 
@@ -70,6 +73,8 @@ struct Report {
     covered: u32,
     /// Stack high-water mark of the whole run, in bytes below `_stack_start`.
     stack_bytes: u32,
+    /// Stack used by the renderer's calls alone (first frame), in bytes below `main`'s frame.
+    core_stack_bytes: u32,
 }
 
 #[entry]
@@ -102,6 +107,7 @@ fn run() -> Result<(), &'static str> {
 
     let mut stats = Stats::default();
     let mut covered = 0u32;
+    let (call_sp, mut core_stack) = (repaint_free_stack(), 0);
     for frame in 1..=FRAMES {
         let last = frame == FRAMES;
         let mut file = if last { Some(create_frame_file()?) } else { None };
@@ -117,6 +123,10 @@ fn run() -> Result<(), &'static str> {
                     .map_err(|_| "band does not fit the frame")?;
                 band.clear(Rgb565::BLACK);
                 stats += soft3d::draw_model_cached(&mut band, &model, transform, &camera, &lights, &opts, &mut cache);
+            }
+            if frame == 1 {
+                // Instrumentation in the first frame only: it cancels out of the per-frame count.
+                core_stack = core_stack.max(call_sp.saturating_sub(lowest_touched_stack()) as u32);
             }
             // Reported for the last frame only, so that counting is not part of a frame's cost.
             if let Some(f) = file.as_mut() {
@@ -137,6 +147,7 @@ fn run() -> Result<(), &'static str> {
         depth_rejected: stats.depth_rejected,
         covered,
         stack_bytes: stack_high_water(),
+        core_stack_bytes: core_stack,
     };
     let mut line = [0u8; 256];
     let n = serde_json_core::to_slice(&report, &mut line).map_err(|_| "JSON line too long")?;
@@ -163,13 +174,23 @@ fn write_band(f: &mut File, pixels: &[Rgb565]) -> Result<(), &'static str> {
     Ok(())
 }
 
+extern "C" {
+    static _stack_start: u32;
+    static _stack_end: u32;
+}
+
 /// Bytes of stack used so far: from `_stack_start` (the top) down to the lowest word that no
-/// longer holds the paint cortex-m-rt put between `_stack_end` and `_stack_start`.
+/// longer holds the paint.
 fn stack_high_water() -> u32 {
-    extern "C" {
-        static _stack_start: u32;
-        static _stack_end: u32;
-    }
+    (&raw const _stack_start as usize - lowest_touched_stack()) as u32
+}
+
+/// The lowest stack address that no longer holds the paint cortex-m-rt (or
+/// [`repaint_free_stack`]) put between `_stack_end` and `_stack_start`. Never inlined, like
+/// [`paint_stack_below`]: the one- and two-frame builds must run the very same code for it,
+/// or its instruction count would not cancel out of the per-frame figure.
+#[inline(never)]
+fn lowest_touched_stack() -> usize {
     let top = &raw const _stack_start as usize;
     let mut p = &raw const _stack_end as usize;
     while p < top {
@@ -182,5 +203,29 @@ fn stack_high_water() -> u32 {
         }
         p += 4;
     }
-    (top - p) as u32
+    p
+}
+
+/// Paints the free stack again, from `_stack_end` up to 256 bytes below the current stack
+/// pointer, and returns the stack pointer. Inlined into its caller, so that the pointer is
+/// the caller's; the painting itself is [`paint_stack_below`].
+#[inline(always)]
+fn repaint_free_stack() -> usize {
+    let sp = cortex_m::register::msp::read() as usize;
+    // 256 bytes leave room for `paint_stack_below`'s own (small) frame.
+    paint_stack_below(sp - 256);
+    sp
+}
+
+/// Writes the paint pattern from `_stack_end` up to `limit` (exclusive). Never inlined (see
+/// [`lowest_touched_stack`]).
+#[inline(never)]
+fn paint_stack_below(limit: usize) {
+    let mut p = &raw const _stack_end as usize;
+    while p < limit {
+        // SAFETY: as in `lowest_touched_stack`; these words are below the stack pointer (no
+        // live object, no interrupt handler runs here) and only ever hold the paint pattern.
+        unsafe { core::ptr::write_volatile(p as *mut u32, STACK_PAINT) };
+        p += 4;
+    }
 }
