@@ -28,8 +28,9 @@
 //!   `(1 - v) · H`.
 //! - **Perspective**: texture coordinates and light are interpolated perspective-correctly.
 //!   Where the triangle's (or a run of pixels') range of `1/w` proves affine stepping is
-//!   within a tolerance (1/16 texel; 1/256 of full light), the rasterizer steps linearly
-//!   instead of dividing per pixel (see [`raster::Setup::allow_affine`]).
+//!   within a tolerance (1/16 texel; 1/256 of full light; Phong's normals and positions
+//!   1/4096), the rasterizer steps linearly instead of dividing per pixel, adding only
+//!   stepping's rounding of under 2^-16 per pixel (see [`raster::Setup::allow_affine`]).
 #![no_std]
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]

@@ -59,13 +59,6 @@ pub fn floor_to_i32(x: f32) -> i32 {
     }
 }
 
-/// Largest integer value not greater than `x` (libm).
-#[inline]
-#[must_use]
-pub fn floor(x: f32) -> f32 {
-    libm::floorf(x)
-}
-
 /// The largest factor by which `m` stretches any direction's length, bounded by its largest
 /// column (axis) length: what a bounding sphere's radius is multiplied by.
 #[inline]
@@ -214,7 +207,7 @@ mod tests {
         for x in [
             0.0f32, -0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5, 1e-30, -1e-30, 8388607.5, -8388607.5, 3e9, -3e9, 1e30, -1e30,
         ] {
-            assert_eq!(floor_to_i32(x), floor(x) as i32, "{x}");
+            assert_eq!(floor_to_i32(x), libm::floorf(x) as i32, "{x}");
         }
         assert_eq!(floor_to_i32(f32::NAN), 0);
         assert_eq!(floor_to_i32(f32::INFINITY), i32::MAX);

@@ -37,7 +37,7 @@ pub const VARYING_FRAC: u32 = 16;
 /// What the rasterizer calls for each covered pixel.
 pub trait Fragment<const V: usize> {
     /// Whether the pixel at frame `(x, y)` with depth `z` (0..=2^30) survives (the depth
-    /// test); only then are its varyings computed and [`Fragment::shade`] called.
+    /// test); only then is [`Fragment::shade`] called.
     fn test(&mut self, x: i32, y: i32, z: u32) -> bool;
     /// Shades the pixel with its perspective-correct varyings.
     fn shade(&mut self, x: i32, y: i32, z: u32, varyings: &[i32; V]);
@@ -97,10 +97,10 @@ impl Edge {
         let step = self.a * 16;
         if step > 0 {
             // row + step * x >= 0  <=>  x >= ceil(-row / step) = -floor(row / step)
-            Some((lo.max(-floor_div_positive(row, step)), hi))
+            Some((lo.max(-floor_div(row, step)), hi))
         } else if step < 0 {
             // x <= floor(row / -step)
-            Some((lo, hi.min(floor_div_positive(row, -step))))
+            Some((lo, hi.min(floor_div(row, -step))))
         } else if row >= 0 {
             Some((lo, hi))
         } else {
@@ -109,19 +109,9 @@ impl Edge {
     }
 }
 
-#[inline]
-fn floor_div(n: i32, d: i32) -> i32 {
-    let q = n / d;
-    if (n % d != 0) && ((n < 0) != (d < 0)) {
-        q - 1
-    } else {
-        q
-    }
-}
-
-/// `floor(n / d)` for `d > 0` (fewer steps than [`floor_div`]: this runs per row and edge).
+/// `floor(n / d)` for `d > 0`.
 #[inline(always)]
-fn floor_div_positive(n: i32, d: i32) -> i32 {
+fn floor_div(n: i32, d: i32) -> i32 {
     debug_assert!(d > 0);
     let q = n / d;
     if n - q * d < 0 {
@@ -131,7 +121,8 @@ fn floor_div_positive(n: i32, d: i32) -> i32 {
     }
 }
 
-#[inline]
+/// `ceil(n / d)` for `d > 0`.
+#[inline(always)]
 fn ceil_div(n: i32, d: i32) -> i32 {
     -floor_div(-n, d)
 }
@@ -150,23 +141,17 @@ pub struct Setup<const V: usize> {
     z_origin: i64,
     z_dx: i64,
     z_dy: i64,
-    /// Every vertex depth is at least 2^-14 inside 0..=1: rounding in the plane and the
-    /// per-pixel steps (far below 2^-14) cannot leave 0..=2^30, so spans need no range check.
-    z_inside: bool,
     /// 1/w of each vertex divided by the largest (so in (0, 1]).
     inv_w: [f32; 3],
     /// Varyings at vertex 0 and their differences to vertices 1 and 2.
     v0: [i32; V],
-    d1: [i32; V],
-    d2: [i32; V],
-    /// `d1` and `d2` as floats, for the exact path.
-    d1f: [f32; V],
-    d2f: [f32; V],
+    d1: [f32; V],
+    d2: [f32; V],
     /// Twice the triangle's area in 1/256 pixel², positive.
     area: i64,
     /// Affine varyings when allowed (see [`Setup::allow_affine`]).
     affine: Option<Planes<V>>,
-    /// Four times the tolerance of each varying (0: exact at every pixel).
+    /// Four times the tolerance of each varying (0: no shortcut where `1/w` varies).
     tolerance: [f32; V],
 }
 
@@ -231,7 +216,7 @@ impl<const V: usize> Setup<V> {
     }
 
     /// [`Setup::new`] for a triangle that already passed [`facing`], which gave `area`.
-    pub fn with_area(tri: &[ScreenVertex; 3], win: &Window, area: i64) -> Result<Self, Reject> {
+    pub(crate) fn with_area(tri: &[ScreenVertex; 3], win: &Window, area: i64) -> Result<Self, Reject> {
         let [p0, p1, p2] = tri;
         // Reorder so the inside is E > 0 (positive image-space area).
         let (a, b, c) = if area > 0 { (p0, p1, p2) } else { (p0, p2, p1) };
@@ -269,12 +254,12 @@ impl<const V: usize> Setup<V> {
         let norm = |q: f32| q / max_w;
 
         let mut v0 = [0; V];
-        let mut d1 = [0; V];
-        let mut d2 = [0; V];
+        let mut d1 = [0.0; V];
+        let mut d2 = [0.0; V];
         for k in 0..V {
             v0[k] = a.varyings[k];
-            d1[k] = b.varyings[k].wrapping_sub(a.varyings[k]);
-            d2[k] = c.varyings[k].wrapping_sub(a.varyings[k]);
+            d1[k] = b.varyings[k].wrapping_sub(a.varyings[k]) as f32;
+            d2[k] = c.varyings[k].wrapping_sub(a.varyings[k]) as f32;
         }
         Ok(Setup {
             edges,
@@ -286,13 +271,10 @@ impl<const V: usize> Setup<V> {
             z_origin: to_fixed(z_at_origin),
             z_dx: to_fixed(gx * 16.0),
             z_dy: to_fixed(gy * 16.0),
-            z_inside: [a.z, b.z, c.z].iter().all(|&z| (Z_MARGIN..=1.0 - Z_MARGIN).contains(&z)),
             inv_w: [norm(a.inv_w), norm(b.inv_w), norm(c.inv_w)],
             v0,
             d1,
             d2,
-            d1f: d1.map(|d| d as f32),
-            d2f: d2.map(|d| d as f32),
             area,
             affine: None,
             tolerance: [0.0; V],
@@ -323,7 +305,7 @@ impl<const V: usize> Setup<V> {
         }
         let inv = 1.0 / sum;
         let (b1, b2) = (n1 * inv, n2 * inv);
-        for ((o, d1), d2) in out.iter_mut().zip(self.d1f).zip(self.d2f) {
+        for ((o, d1), d2) in out.iter_mut().zip(self.d1).zip(self.d2) {
             *o = o.wrapping_add((d1 * b1 + d2 * b2) as i32);
         }
         (out, sum)
@@ -346,12 +328,16 @@ impl<const V: usize> Setup<V> {
     /// `Q = Σ b_i q_i`; taking `c` mid-range bounds it by `range(v) · (q_max - q_min) / (4 Q)`.
     /// So when `range(v_k) · (q_max/q_min - 1) <= 4 · tolerance[k]` for every `k`, the whole
     /// triangle is drawn from one plane per varying, with no division per pixel or per row.
+    /// Otherwise, with `subspan == 1`, runs of a row step linearly between exact ends when the
+    /// same bound holds for the run. The tolerance is on top of stepping's own rounding: under
+    /// one unit (of 2^-16) per pixel of a run, which the exact path has too for `subspan > 1`.
+    /// With equal `1/w` everywhere (e.g. an orthographic camera) affine is exact and always used.
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
         let [q0, q1, q2] = self.inv_w;
         let (q_min, q_max) = (min(min(q0, q1), q2), max(max(q0, q1), q2));
         let ratio = (q_max - q_min) / q_min;
         let within = (0..V).all(|k| {
-            let (d1, d2) = (self.d1[k] as f32, self.d2[k] as f32);
+            let (d1, d2) = (self.d1[k], self.d2[k]);
             let range = max(max(d1, d2), 0.0) - min(min(d1, d2), 0.0);
             range * ratio <= 4.0 * tolerance[k] as f32
         });
@@ -398,9 +384,7 @@ impl<const V: usize> Setup<V> {
                         self.0.shade(x, s.y, z, &v);
                     }
                     z = z.wrapping_add_signed(s.dz);
-                    for (v, dv) in v.iter_mut().zip(s.dv) {
-                        *v = v.wrapping_add(dv);
-                    }
+                    step_varyings(&mut v, &s.dv);
                 }
             }
         }
@@ -408,18 +392,27 @@ impl<const V: usize> Setup<V> {
     }
 
     /// Hands every covered run of pixels to `sink` as [`Span`]s, row by row, left to right:
-    /// one span per row when the triangle [`is_affine`](Setup::is_affine), else one per
-    /// `subspan` (>= 1) pixels with exact perspective-correct varyings at its first pixel.
+    /// one span per row when the triangle [`is_affine`](Setup::is_affine); else runs with exact
+    /// perspective-correct varyings at their first pixel, of `subspan` pixels when it is above
+    /// 1, or (with `subspan == 1` and a tolerance from [`Setup::allow_affine`]) as long as the
+    /// tolerance allows stepping linearly between exact ends, halving until it does.
     ///
     /// The sink is called through `dyn`: one copy of this loop per varying count instead of
     /// one per shader (flash), at the cost of an indirect call per span.
     pub fn for_each_span(&self, subspan: u32, sink: &mut dyn SpanSink<V>) {
-        let subspan = subspan.max(1) as i32;
+        // Beyond 4096 no span is long enough to tell the difference; the cap keeps x + subspan
+        // from overflowing.
+        let subspan = subspan.clamp(1, 1 << 12) as i32;
         for y in self.y0..=self.y1 {
             // Rows are measured from the origin row in frame coordinates (see `new`).
             let dy = y - self.origin_row;
             let Some((lo, hi)) = self.row_span(dy) else { continue };
-            let z = self.z_origin + self.z_dx * lo as i64 + self.z_dy * dy as i64;
+            // Wrapping: exact whenever the depth is representable; needle triangles with absurd
+            // gradients only get clamped garbage, never a panic.
+            let z = self
+                .z_origin
+                .wrapping_add(self.z_dx.wrapping_mul(lo as i64))
+                .wrapping_add(self.z_dy.wrapping_mul(dy as i64));
             if let Some(p) = &self.affine {
                 let (v, dv) = p.at(lo, dy);
                 self.emit(sink, y, lo, hi + 1, z, v, dv);
@@ -438,7 +431,7 @@ impl<const V: usize> Setup<V> {
             // row only, so that every band makes the same choices).
             let mut try_len = hi - lo;
             while xs <= hi {
-                let z = z + self.z_dx * (xs - lo) as i64;
+                let z = z.wrapping_add(self.z_dx.wrapping_mul((xs - lo) as i64));
                 if xs == hi {
                     // The last pixel of the span on its own.
                     self.emit(sink, y, xs, xs + 1, z, start.0, [0; V]);
@@ -490,31 +483,37 @@ impl<const V: usize> Setup<V> {
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn emit(&self, sink: &mut dyn SpanSink<V>, y: i32, xs: i32, xe: i32, z: i64, v: [i32; V], dv: [i32; V]) {
-        let (len, dz) = (xe - xs, (self.z_dx >> 10) as i32);
-        let first = z >> 10;
-        let x = self.x0 + xs;
-        let in_range = || (0..=Z_MAX).contains(&first) && (0..=Z_MAX).contains(&(first + dz as i64 * (len - 1) as i64));
-        debug_assert!(!self.z_inside || in_range(), "depth left 0..=2^30 in a z_inside triangle");
-        if self.z_inside || in_range() {
+        let (len, first, x) = (xe - xs, z >> 10, self.x0 + xs);
+        // The per-pixel depth step in 2.30, when it fits and keeps the whole run in 0..=2^30.
+        let last = |dz: i32| first + dz as i64 * (len - 1) as i64;
+        let stepped = i32::try_from(self.z_dx >> 10)
+            .ok()
+            .filter(|&dz| (0..=Z_MAX).contains(&first) && (0..=Z_MAX).contains(&last(dz)));
+        if let Some(dz) = stepped {
             sink.span(&Span { y, x, len: len as u32, z: first as u32, dz, v, dv });
             return;
         }
+        // Depth leaves 0..=2^30 somewhere in the run (a triangle touching the near or far
+        // plane, or float rounding in a needle triangle's depth plane): pixel by pixel, clamped.
         let mut v = v;
         for k in 0..len {
-            let z = ((z + self.z_dx * k as i64) >> 10).clamp(0, Z_MAX) as u32;
+            let z = (z.wrapping_add(self.z_dx.wrapping_mul(k as i64)) >> 10).clamp(0, Z_MAX) as u32;
             sink.span(&Span { y, x: x + k, len: 1, z, dz: 0, v, dv });
-            for (v, dv) in v.iter_mut().zip(dv) {
-                *v = v.wrapping_add(dv);
-            }
+            step_varyings(&mut v, &dv);
         }
+    }
+}
+
+/// Adds one pixel's steps to the varyings (wrapping, like every varying sum).
+#[inline(always)]
+pub fn step_varyings<const V: usize>(v: &mut [i32; V], dv: &[i32; V]) {
+    for (v, dv) in v.iter_mut().zip(dv) {
+        *v = v.wrapping_add(*dv);
     }
 }
 
 /// The largest depth value, the far plane: 2^30.
 const Z_MAX: i64 = 1 << 30;
-
-/// See `Setup::z_inside`.
-const Z_MARGIN: f32 = 1.0 / (1 << 14) as f32;
 
 /// A run of covered pixels on one row, with everything needed to step across it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -544,6 +543,8 @@ pub trait SpanSink<const V: usize> {
 /// Affine varyings: `v(x, y) = origin + gx·x + gy·y` in pixels from the origin pixel centre.
 #[derive(Clone, Copy, Debug)]
 struct Planes<const V: usize> {
+    /// Vertex 0's values; the planes below are relative to them.
+    base: [i32; V],
     origin: [f32; V],
     gx: [f32; V],
     gy: [f32; V],
@@ -555,15 +556,17 @@ impl<const V: usize> Planes<V> {
     /// The planes through the three vertices' values: the weight of vertex 1 is `E_1 / area`
     /// and of vertex 2 is `E_2 / area` (screen-space barycentrics), in f32 (the same bits on
     /// every target).
-    fn new(edges: &[Edge; 3], area: i64, v0: &[i32; V], d1: &[i32; V], d2: &[i32; V]) -> Self {
+    fn new(edges: &[Edge; 3], area: i64, v0: &[i32; V], d1: &[f32; V], d2: &[f32; V]) -> Self {
         let inv_area = 1.0 / area as f32;
         let per_pixel = |c: i32| (c * 16) as f32 * inv_area;
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), edges[1].c as f32 * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), edges[2].c as f32 * inv_area);
-        let mut p = Planes { origin: [0.0; V], gx: [0.0; V], gy: [0.0; V], step: [0; V] };
+        let mut p = Planes { base: *v0, origin: [0.0; V], gx: [0.0; V], gy: [0.0; V], step: [0; V] };
         for k in 0..V {
-            let (d1, d2) = (d1[k] as f32, d2[k] as f32);
-            p.origin[k] = v0[k] as f32 + d1 * b1o + d2 * b2o;
+            let (d1, d2) = (d1[k], d2[k]);
+            // Relative to vertex 0's value, added back in integers: large values (e.g. world
+            // positions) keep their precision.
+            p.origin[k] = d1 * b1o + d2 * b2o;
             p.gx[k] = d1 * b1x + d2 * b2x;
             p.gy[k] = d1 * b1y + d2 * b2y;
             p.step[k] = crate::math::floor_to_i32(p.gx[k] + 0.5);
@@ -575,7 +578,8 @@ impl<const V: usize> Planes<V> {
     #[inline(always)]
     fn at(&self, x: i32, y: i32) -> ([i32; V], [i32; V]) {
         let (x, y) = (x as f32, y as f32);
-        (core::array::from_fn(|k| (self.origin[k] + self.gx[k] * x + self.gy[k] * y) as i32), self.step)
+        let v = |k: usize| self.base[k].wrapping_add((self.origin[k] + self.gx[k] * x + self.gy[k] * y) as i32);
+        (core::array::from_fn(v), self.step)
     }
 }
 

@@ -4,7 +4,7 @@ use crate::camera::Camera;
 use crate::clip::{classify, cut, ClipResult, ClipVertex, Planes, Polygon};
 use crate::format::{Arrays, Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3, Vec4};
-use crate::raster::{facing, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS};
+use crate::raster::{facing, step_varyings, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS};
 use crate::shade::{modulate, Filter, Lights, PixelLights, PreparedLights, Repeat565, Sampler};
 use crate::target::{Band, DepthBuffer, DepthCell, FrameColor, NoDepth, GUARD_HALF_EXTENT};
 
@@ -47,7 +47,8 @@ pub struct RenderOptions {
     pub filter: Filter,
     /// Varyings are computed exactly every `subspan` pixels along a span and stepped linearly
     /// in between. 1 (the default) is perspective-correct at every pixel: exact, or stepped
-    /// linearly only where that is provably within 1/16 texel and 1/256 of full light.
+    /// linearly only where that is provably within 1/16 texel and 1/256 of full light (plus
+    /// stepping's rounding, under 2^-16 per pixel; see `raster::Setup::allow_affine`).
     pub subspan: u32,
     /// Whether textures are used (false: material colour only).
     pub textures: bool,
@@ -93,7 +94,8 @@ pub struct Stats {
     pub pixels_written: u32,
     /// Fragments rejected by the depth test.
     pub depth_rejected: u32,
-    /// Triangles skipped because a [`RowCache`] knew they cannot touch this band.
+    /// Triangles skipped because they cannot touch this band: known from a [`RowCache`]
+    /// before any vertex work, or found from their projected rows before lighting.
     pub outside_band: u32,
 }
 
@@ -529,6 +531,7 @@ fn front_end<const L: usize>(
         // rows for the later bands).
         let rows = TriangleRows::of(xy, height);
         if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
+            stats.outside_band += 1;
             return Front::Done(rows);
         }
         known_rows = Some(rows);
@@ -856,7 +859,6 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     base: &B,
     stats: &mut Stats,
 ) -> Result<(), Reject> {
-    let raster = (&ctx.window, ctx.opts.subspan);
     let cull = material.cull_back_faces;
     let specular = ctx.specular;
     let pl = &ctx.pixel_lights;
@@ -871,6 +873,7 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     } else {
         LitBy::Vertex
     };
+    let raster = (&ctx.window, ctx.opts.subspan, lit.affine_tolerance_light());
     match (lit, ctx.opts.dither) {
         (LitBy::White, false) => fragments::<_, _, _, _, 3, false>(band, raster, tri, cull, flip, base, &White, stats),
         (LitBy::White, true) => fragments::<_, _, _, _, 3, true>(band, raster, tri, cull, flip, base, &White, stats),
@@ -961,21 +964,28 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
                 cut += 1;
             }
             z = z.wrapping_add_signed(s.dz);
-            for (v, dv) in v.iter_mut().zip(s.dv) {
-                *v = v.wrapping_add(dv);
-            }
+            step_varyings(&mut v, &s.dv);
         }
         self.written += s.len - rejected - cut;
         self.rejected += rejected;
     }
 }
 
-/// How far affine varyings may be from perspective-correct ones before a triangle (or a run of
-/// pixels) is drawn with per-pixel perspective (see `Setup::allow_affine`): 1/16 texel for
-/// texture coordinates; 1/256 for light (an 8-bit step; a quarter of RGB565's finest); for
-/// Phong's normals and positions 1/4096, as per-pixel lighting magnifies their errors.
-fn affine_tolerance<const V: usize>() -> [u32; V] {
-    let other = if V == MAX_VARYINGS { 1 << 4 } else { 1 << 8 };
+impl LitBy {
+    /// How far affine varyings other than texture coordinates may be from perspective-correct
+    /// ones (see `Setup::allow_affine`): 1/256 for light (an 8-bit step; a quarter of RGB565's
+    /// finest); 1/4096 for Phong's normals and positions, as per-pixel lighting magnifies
+    /// their errors.
+    fn affine_tolerance_light(self) -> u32 {
+        match self {
+            LitBy::Pixel => 1 << 4,
+            _ => 1 << 8,
+        }
+    }
+}
+
+/// The tolerances of all `V` varyings: 1/16 texel for texture coordinates, `other` for the rest.
+fn affine_tolerance<const V: usize>(other: u32) -> [u32; V] {
     core::array::from_fn(|k| if k == U || k == V_ { 1 << 12 } else { other })
 }
 
@@ -985,7 +995,7 @@ fn affine_tolerance<const V: usize>() -> [u32; V] {
 #[inline(never)]
 fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
-    (window, subspan): (&Window, u32),
+    (window, subspan, tolerance): (&Window, u32, u32),
     tri: &[ScreenVertex; 3],
     cull_back: bool,
     (flip, area): (bool, Option<i64>),
@@ -997,7 +1007,7 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         Some(area) => Setup::<V>::with_area(tri, window, area)?,
         None => Setup::<V>::new(tri, window, cull_back, flip)?,
     };
-    setup.allow_affine(affine_tolerance::<V>());
+    setup.allow_affine(affine_tolerance::<V>(tolerance));
     let mut shader = Shader::<C, D, B, Lt, DITHER> {
         width: band.width as usize,
         rows: band.rows as usize,

@@ -620,8 +620,8 @@ impl<const V: usize> Fragment<V> for Picky<V> {
 
 #[test]
 fn rejected_fragments_do_not_disturb_the_others() {
-    // `for_each_fragment` asks the depth test first and only then computes varyings: whatever
-    // it rejects, the surviving pixels get exactly what `for_each_pixel` gives them.
+    // `for_each_fragment` asks the depth test first and shades only what passes: whatever it
+    // rejects, the surviving pixels get exactly what `for_each_pixel` gives them.
     let mut rng = Rng::new(0x5EED_000A);
     let f = Frame { w: 96, h: 64 };
     let full = full_window(f.w, f.h);
@@ -863,7 +863,7 @@ fn project(v: &ClipVertex, (hw, hh): (f32, f32)) -> ScreenVertex {
     let inv_w = 1.0 / v.pos.w;
     let x = (v.pos.x * inv_w + 1.0) * hw;
     let y = (1.0 - v.pos.y * inv_w) * hh;
-    let snap = |p: f32| soft3d::math::floor(p * 16.0) as i32;
+    let snap = |p: f32| soft3d::math::floor_to_i32(p * 16.0);
     ScreenVertex {
         x: snap(x),
         y: snap(y),
@@ -1738,5 +1738,41 @@ mod pipeline {
         let (img, stats) = render(&model, &pixel_camera(), 16, 8, &unlit());
         assert!(img.iter().all(|&l| l == 0));
         assert_eq!(stats.culled_back_face, 1);
+    }
+}
+
+/// Degenerate-looking but legal triangles (a needle whose f32 depth plane strays far outside
+/// its vertices' depths; a large triangle whose depth gradient times its width overflows
+/// i64 in 24.40; an absurd `subspan`) draw without panicking, with depth in 0..=2^30.
+#[test]
+fn needles_huge_gradients_and_huge_subspans_do_not_panic() {
+    let vert = |x: i32, y: i32, z: f32| ScreenVertex { x, y, z, inv_w: 1.0, varyings: [7 << 16; MAX_VARYINGS] };
+    let cases = [
+        // A needle: two vertices at depth 2^-14, the third a 1/16 pixel away at 0.694.
+        (
+            [vert(344, 2712, 1.0 / 16384.0), vert(4952, -2536, 1.0 / 16384.0), vert(4952, -2535, 0.694)],
+            full_window(240, 240),
+        ),
+        // Large and thin in a 1536-wide frame: z_dx times the column overflows i64.
+        (
+            {
+                let b = (24008, 24008);
+                let a = (b.0 - 16000, b.1 - 16001);
+                let c = (a.0 + 16001, a.1 + 16002);
+                [vert(a.0, a.1, 0.5), vert(b.0, b.1, 0.5), vert(c.0, c.1, 0.9)]
+            },
+            full_window(1536, 1536),
+        ),
+    ];
+    for (tri, win) in &cases {
+        for subspan in [1, 3, 4096, u32::MAX] {
+            let Ok(s) = Setup::<MAX_VARYINGS>::new(tri, win, false, false) else { continue };
+            let mut n = 0;
+            s.for_each_pixel(subspan, |_, _, z, _| {
+                assert!(z <= 1 << 30, "depth {z}");
+                n += 1;
+            });
+            assert!(n > 0, "{tri:?} covers pixels");
+        }
     }
 }

@@ -17,9 +17,9 @@
 //! Stack: cortex-m-rt's `paint-stack` feature fills `_stack_end.._stack_start` (everything
 //! above the statics) with `0xCCCC_CCCC` before `main`; after the frame the lowest word that
 //! no longer holds the pattern gives the high-water mark of the whole firmware. For the core
-//! alone, the free stack below `main`'s frame is painted again just before the first frame,
-//! and after each band's draw call of that frame (before any semihosting call) the lowest
-//! touched word, measured from the stack pointer at the call, gives the renderer's own use.
+//! alone, in the first frame, the free stack below the caller's frame is painted again right
+//! before each band's draw call and scanned right after it: the lowest touched word, measured
+//! from the stack pointer at the call, gives the renderer's own use.
 #![no_std]
 #![no_main]
 
@@ -107,7 +107,8 @@ fn run() -> Result<(), &'static str> {
 
     let mut stats = Stats::default();
     let mut covered = 0u32;
-    let (call_sp, mut core_stack) = (repaint_free_stack(), 0);
+    // The whole firmware's deepest use, kept up to date before every re-painting below.
+    let (mut firmware_stack, mut core_stack) = (stack_high_water(), 0);
     for frame in 1..=FRAMES {
         let last = frame == FRAMES;
         let mut file = if last { Some(create_frame_file()?) } else { None };
@@ -122,11 +123,12 @@ fn run() -> Result<(), &'static str> {
                 let mut band = Band::new(&mut color[..], &mut depth[..], WIDTH, HEIGHT, first_row)
                     .map_err(|_| "band does not fit the frame")?;
                 band.clear(Rgb565::BLACK);
-                stats += soft3d::draw_model_cached(&mut band, &model, transform, &camera, &lights, &opts, &mut cache);
-            }
-            if frame == 1 {
                 // Instrumentation in the first frame only: it cancels out of the per-frame count.
-                core_stack = core_stack.max(call_sp.saturating_sub(lowest_touched_stack()) as u32);
+                let painted = (frame == 1).then(|| repaint_free_stack(&mut firmware_stack));
+                stats += soft3d::draw_model_cached(&mut band, &model, transform, &camera, &lights, &opts, &mut cache);
+                if let Some((sp, from)) = painted {
+                    core_stack = core_stack.max(sp.saturating_sub(lowest_touched_stack(from)) as u32);
+                }
             }
             // Reported for the last frame only, so that counting is not part of a frame's cost.
             if let Some(f) = file.as_mut() {
@@ -146,7 +148,7 @@ fn run() -> Result<(), &'static str> {
         pixels_written: stats.pixels_written,
         depth_rejected: stats.depth_rejected,
         covered,
-        stack_bytes: stack_high_water(),
+        stack_bytes: firmware_stack.max(stack_high_water()),
         core_stack_bytes: core_stack,
     };
     let mut line = [0u8; 256];
@@ -182,22 +184,26 @@ extern "C" {
 /// Bytes of stack used so far: from `_stack_start` (the top) down to the lowest word that no
 /// longer holds the paint.
 fn stack_high_water() -> u32 {
-    (&raw const _stack_start as usize - lowest_touched_stack()) as u32
+    (&raw const _stack_start as usize - lowest_touched_stack(&raw const _stack_end as usize)) as u32
 }
 
-/// The lowest stack address that no longer holds the paint cortex-m-rt (or
-/// [`repaint_free_stack`]) put between `_stack_end` and `_stack_start`. Never inlined, like
-/// [`paint_stack_below`]: the one- and two-frame builds must run the very same code for it,
-/// or its instruction count would not cancel out of the per-frame figure.
+/// How far below the caller's frame [`repaint_free_stack`] paints (more than the renderer
+/// uses; the scan stops at the first touched word, so a bigger window costs nothing more).
+const CORE_STACK_WINDOW: usize = 16 * 1024;
+
+/// The lowest address at or above `from` that no longer holds the paint cortex-m-rt (or
+/// [`repaint_free_stack`]) put on the stack. Never inlined, like [`paint_stack`]: the one- and
+/// two-frame builds must run the very same code for it, or its instruction count would not
+/// cancel out of the per-frame figure.
 #[inline(never)]
-fn lowest_touched_stack() -> usize {
+fn lowest_touched_stack(from: usize) -> usize {
     let top = &raw const _stack_start as usize;
-    let mut p = &raw const _stack_end as usize;
+    let mut p = from;
     while p < top {
         // SAFETY: `_stack_end.._stack_start` is RAM reserved for the stack by cortex-m-rt's
-        // linker script, 4-byte aligned; it is only read here (volatile, so the compiler
-        // cannot assume its contents), and the words below the stack pointer belong to no
-        // live object.
+        // linker script, 4-byte aligned, and `from` lies in it; it is only read here
+        // (volatile, so the compiler cannot assume its contents), and the words below the
+        // stack pointer belong to no live object.
         if unsafe { core::ptr::read_volatile(p as *const u32) } != STACK_PAINT {
             break;
         }
@@ -206,23 +212,25 @@ fn lowest_touched_stack() -> usize {
     p
 }
 
-/// Paints the free stack again, from `_stack_end` up to 256 bytes below the current stack
-/// pointer, and returns the stack pointer. Inlined into its caller, so that the pointer is
-/// the caller's; the painting itself is [`paint_stack_below`].
+/// Paints the [`CORE_STACK_WINDOW`] below the current stack pointer again (leaving 256 bytes
+/// for [`paint_stack`]'s own frame) and returns the stack pointer and the window's start.
+/// First raises `high_water` (bytes below `_stack_start`) to what the window shows, since
+/// painting erases it. Inlined into its caller, so that the pointer is the caller's.
 #[inline(always)]
-fn repaint_free_stack() -> usize {
+fn repaint_free_stack(high_water: &mut u32) -> (usize, usize) {
     let sp = cortex_m::register::msp::read() as usize;
-    // 256 bytes leave room for `paint_stack_below`'s own (small) frame.
-    paint_stack_below(sp - 256);
-    sp
+    let from = (&raw const _stack_end as usize).max(sp.saturating_sub(CORE_STACK_WINDOW)) & !3;
+    let seen = (&raw const _stack_start as usize - lowest_touched_stack(from)) as u32;
+    *high_water = (*high_water).max(seen);
+    paint_stack(from, sp - 256);
+    (sp, from)
 }
 
-/// Writes the paint pattern from `_stack_end` up to `limit` (exclusive). Never inlined (see
-/// [`lowest_touched_stack`]).
+/// Writes the paint pattern over `from..to`. Never inlined (see [`lowest_touched_stack`]).
 #[inline(never)]
-fn paint_stack_below(limit: usize) {
-    let mut p = &raw const _stack_end as usize;
-    while p < limit {
+fn paint_stack(from: usize, to: usize) {
+    let mut p = from;
+    while p < to {
         // SAFETY: as in `lowest_touched_stack`; these words are below the stack pointer (no
         // live object, no interrupt handler runs here) and only ever hold the paint pattern.
         unsafe { core::ptr::write_volatile(p as *mut u32, STACK_PAINT) };
