@@ -60,6 +60,13 @@ pub mod cmd {
     pub const COLMOD: u8 = 0x3A;
 }
 
+/// The `CASET` and `RASET` parameters that open band `band` (full width) for `RAMWR`.
+pub fn band_window(band: usize) -> [(u8, [u8; 4]); 2] {
+    let be = |a: u16, b: u16| [(a >> 8) as u8, a as u8, (b >> 8) as u8, b as u8];
+    let (y0, y1) = ((band * BAND_ROWS) as u16, ((band + 1) * BAND_ROWS - 1) as u16);
+    [(cmd::CASET, be(0, WIDTH - 1)), (cmd::RASET, be(y0, y1))]
+}
+
 /// The ST7789 start-up after its hardware reset: `(command, parameters, then wait ms)`.
 pub const INIT: &[(u8, &[u8], u32)] = &[
     (cmd::SWRESET, &[], 150),

@@ -57,7 +57,7 @@ const COLOR_BUFFERS: usize = 4;
 
 #[path = "../../common/board.rs"]
 mod board;
-use board::{cmd, BandBuf, Depth, Pixels, Scene, BANDS, BAND_PIXELS, BAND_ROWS, WIDTH};
+use board::{cmd, BandBuf, Depth, Pixels, Scene, BANDS, BAND_PIXELS, BAND_ROWS};
 
 type SpiPins = (Pin<Gpio19, FunctionSpi, PullDown>, Pin<Gpio18, FunctionSpi, PullDown>);
 type Spi0 = hal::Spi<hal::spi::Enabled, pac::SPI0, SpiPins, 8>;
@@ -145,10 +145,9 @@ impl Display {
     /// transfer (waiting for it first), if there was one.
     fn present(&mut self, buf: BandBuf, band: usize) -> Option<BandBuf> {
         let done = self.wait();
-        let (x0, x1) = (0u16, WIDTH - 1);
-        let (y0, y1) = ((band * BAND_ROWS) as u16, ((band + 1) * BAND_ROWS - 1) as u16);
-        self.command(cmd::CASET, &[(x0 >> 8) as u8, x0 as u8, (x1 >> 8) as u8, x1 as u8]);
-        self.command(cmd::RASET, &[(y0 >> 8) as u8, y0 as u8, (y1 >> 8) as u8, y1 as u8]);
+        for (command, params) in board::band_window(band) {
+            self.command(command, &params);
+        }
         // RAMWR, then the pixels as its parameters: CS stays low until `wait` raises it.
         let _ = self.cs.set_low();
         let _ = self.dc.set_low();

@@ -48,7 +48,7 @@ const TURN_SECONDS: f32 = 8.0;
 
 #[path = "../../common/board.rs"]
 mod board;
-use board::{cmd, BandBuf, Depth, Pixels, Scene, BANDS, BAND_PIXELS, BAND_ROWS, WIDTH};
+use board::{cmd, BandBuf, Depth, Pixels, Scene, BANDS, BAND_PIXELS, BAND_ROWS};
 
 type DmaStream = Stream3<pac::DMA2>;
 /// DMA2 stream 3, channel 3: SPI1_TX (RM0383 table 28).
@@ -135,10 +135,9 @@ impl Display {
     /// transfer (waiting for it first), if there was one.
     fn present(&mut self, buf: BandBuf, band: usize) -> Option<BandBuf> {
         let done = self.wait();
-        let (x0, x1) = (0u16, WIDTH - 1);
-        let (y0, y1) = ((band * BAND_ROWS) as u16, ((band + 1) * BAND_ROWS - 1) as u16);
-        self.command(cmd::CASET, &[(x0 >> 8) as u8, x0 as u8, (x1 >> 8) as u8, x1 as u8]);
-        self.command(cmd::RASET, &[(y0 >> 8) as u8, y0 as u8, (y1 >> 8) as u8, y1 as u8]);
+        for (command, params) in board::band_window(band) {
+            self.command(command, &params);
+        }
         // RAMWR, then the pixels as its parameters: CS stays low until `wait` raises it.
         self.cs.set_low();
         self.dc.set_low();
