@@ -52,7 +52,7 @@ pub use camera::Camera;
 pub use format::{Model, ParseError};
 pub use render::{draw_model, draw_model_cached, Mode, RenderOptions, RowCache, Shading, Stats, TriangleRows};
 pub use shade::{Filter, Lights};
-pub use target::{Band, DepthBuffer, DepthCell, FrameColor, NoDepth, Rgb565Be};
+pub use target::{Band, DepthBuffer, DepthCell, DepthValue, FrameColor, NoDepth, Rgb565Be};
 
 #[cfg(feature = "convert")]
 pub mod convert;

@@ -205,21 +205,45 @@ pub trait DepthBuffer {
     }
 }
 
-/// Depth as `u16`: `z >> 14` (0 = near plane, 65535 = far plane).
-impl DepthCell for &mut u16 {
+/// What a depth buffer of plain values stores: `u16` (`z >> 14`, 0 = near plane, 65535 = far
+/// plane) or `f32` (0.0 near ..= 1.0 far).
+pub trait DepthValue: Copy + PartialOrd {
+    /// The far plane: what [`DepthBuffer::clear_depth`] writes.
+    const FAR: Self;
+    /// The stored form of depth `z` (0..=2^30).
+    fn from_z(z: u32) -> Self;
+}
+
+impl DepthValue for u16 {
+    const FAR: Self = u16::MAX;
     #[inline(always)]
-    fn passes(&self, z: u32) -> bool {
-        z_to_u16(z) <= **self
-    }
-    #[inline(always)]
-    fn store(&mut self, z: u32) {
-        **self = z_to_u16(z);
+    fn from_z(z: u32) -> Self {
+        z_to_u16(z)
     }
 }
 
-impl DepthBuffer for &mut [u16] {
+impl DepthValue for f32 {
+    const FAR: Self = 1.0;
+    #[inline(always)]
+    fn from_z(z: u32) -> Self {
+        z_to_f32(z)
+    }
+}
+
+impl<T: DepthValue> DepthCell for &mut T {
+    #[inline(always)]
+    fn passes(&self, z: u32) -> bool {
+        T::from_z(z) <= **self
+    }
+    #[inline(always)]
+    fn store(&mut self, z: u32) {
+        **self = T::from_z(z);
+    }
+}
+
+impl<T: DepthValue> DepthBuffer for &mut [T] {
     type Cells<'a>
-        = core::slice::IterMut<'a, u16>
+        = core::slice::IterMut<'a, T>
     where
         Self: 'a;
     #[inline]
@@ -231,42 +255,10 @@ impl DepthBuffer for &mut [u16] {
         self.get_mut(start..start.checked_add(len)?).map(|s| s.iter_mut())
     }
     fn clear_depth(&mut self) {
-        self.fill(u16::MAX);
+        self.fill(T::FAR);
     }
 }
 
-/// Depth as `f32` in 0.0 (near) ..= 1.0 (far).
-impl DepthCell for &mut f32 {
-    #[inline(always)]
-    fn passes(&self, z: u32) -> bool {
-        z_to_f32(z) <= **self
-    }
-    #[inline(always)]
-    fn store(&mut self, z: u32) {
-        **self = z_to_f32(z);
-    }
-}
-
-impl DepthBuffer for &mut [f32] {
-    type Cells<'a>
-        = core::slice::IterMut<'a, f32>
-    where
-        Self: 'a;
-    #[inline]
-    fn depth_len(&self) -> Option<usize> {
-        Some(self.len())
-    }
-    #[inline(always)]
-    fn cells(&mut self, start: usize, len: usize) -> Option<Self::Cells<'_>> {
-        self.get_mut(start..start.checked_add(len)?).map(|s| s.iter_mut())
-    }
-    fn clear_depth(&mut self) {
-        self.fill(1.0);
-    }
-}
-
-/// `z >> 14`, except that the far plane `2^30` maps to 65535 (not 65536): subtracting
-/// `z >> 30` is cheaper than a clamp in the per-pixel loop.
 #[inline(always)]
 fn z_to_u16(z: u32) -> u16 {
     debug_assert!(z <= 1 << 30);
