@@ -754,6 +754,13 @@ impl<'a> Model<'a> {
         Some((u16_at(self.data, at) as usize, affine_at(self.data, at + instance::WORLD.start)))
     }
 
+    /// Triangles and vertices of everything [`Model::draws`] yields (instances counted again):
+    /// the entries a [`RowCache`](crate::RowCache) needs.
+    #[must_use]
+    pub fn draw_counts(&self) -> (usize, usize) {
+        self.draws().fold((0, 0), |(t, v), (m, _)| (t + m.triangle_count() as usize, v + m.vertex_count() as usize))
+    }
+
     /// Everything to draw: each mesh with its own world matrix, then each instance.
     pub fn draws(&self) -> impl Iterator<Item = (Mesh<'a>, Mat4)> + 'a {
         let model = *self;

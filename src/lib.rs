@@ -50,7 +50,9 @@ pub mod target;
 
 pub use camera::Camera;
 pub use format::{Model, ParseError};
-pub use render::{draw_model, draw_model_cached, Mode, RenderOptions, RowCache, Shading, Stats, TriangleRows};
+pub use render::{
+    draw_model, draw_model_cached, Mode, RenderOptions, RowCache, Shading, Stats, TransformedVertex, TriangleRows,
+};
 pub use shade::{Filter, Lights};
 pub use target::{Band, DepthBuffer, DepthCell, DepthValue, FrameColor, NoDepth, Rgb565Be};
 

@@ -216,6 +216,7 @@ impl<const V: usize> Setup<V> {
     }
 
     /// [`Setup::new`] for a triangle that already passed [`facing`], which gave `area`.
+    #[inline(always)]
     pub(crate) fn with_area(tri: &[ScreenVertex; 3], win: &Window, area: i64) -> Result<Self, Reject> {
         let [p0, p1, p2] = tri;
         // Reorder so the inside is E > 0 (positive image-space area).

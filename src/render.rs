@@ -151,7 +151,7 @@ pub fn draw_mesh<C: FrameColor, D: DepthBuffer, const L: usize>(
     opts: &RenderOptions,
 ) -> Stats {
     let ctx = Context::new(band, camera, lights, opts);
-    draw_mesh_with(band, &ctx, model, mesh, world, None)
+    draw_mesh_with(band, &ctx, model, mesh, world, (None, None))
 }
 
 /// One entry of the painter's-mode scratch list: a triangle and its sort key.
@@ -231,7 +231,7 @@ pub fn draw_model_sorted<C: FrameColor, const L: usize>(
             .find(|s| (s.first_triangle..s.first_triangle + s.triangle_count).contains(&e.triangle));
         let material = sub.and_then(|s| s.material).and_then(|m| model.material(m)).unwrap_or_default();
         let sampler = ctx.sampler(model, &setup.mesh, &material);
-        let _ = draw_triangle(band, &ctx, setup, e.triangle, &material, sampler.as_ref(), &mut stats);
+        let _ = draw_triangle(band, &ctx, setup, e.triangle, &material, sampler.as_ref(), None, &mut stats);
     }
     Ok(stats)
 }
@@ -245,6 +245,9 @@ struct Context<'l, const L: usize> {
     pixel_lights: PixelLights<L>,
     /// The specular colour in 8 bits (zero: specular off).
     specular: [u8; 3],
+    /// Vertex lighting needs world positions (point lights or specular); directional and
+    /// hemispheric light alone needs only normals.
+    lit_by_position: bool,
     opts: RenderOptions,
     planes: Planes,
     window: Window,
@@ -261,6 +264,8 @@ impl<'l, const L: usize> Context<'l, L> {
             vertex_lights: lights.prepared(),
             specular: lights.specular.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8),
             pixel_lights: PixelLights::new(lights),
+            lit_by_position: lights.specular != Vec3::ZERO
+                || lights.lights.iter().any(|l| l.kind == crate::format::LightKind::Point),
             opts: *opts,
             planes: Planes { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
             window: Window {
@@ -317,7 +322,7 @@ fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     model: &Model<'_>,
     mesh: &Mesh<'_>,
     world: Mat4,
-    mut rows: Option<&mut [TriangleRows]>,
+    (mut rows, mut vertices): (Option<&mut [TriangleRows]>, Option<&mut [TransformedVertex]>),
 ) -> Stats {
     let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
     if !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
@@ -340,7 +345,8 @@ fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
                     continue;
                 }
             }
-            let seen = draw_triangle(band, ctx, &setup, t, &material, sampler.as_ref(), &mut stats);
+            let verts = vertices.as_deref_mut();
+            let seen = draw_triangle(band, ctx, &setup, t, &material, sampler.as_ref(), verts, &mut stats);
             if let Some(r) = cached {
                 *r = seen;
             }
@@ -387,25 +393,72 @@ impl TriangleRows {
 
 /// A caller-owned record of which rows each triangle of a model covers, so that when a frame is
 /// drawn in bands, the bands after the first skip the triangles that cannot touch them before
-/// any vertex work (4 bytes a triangle, counting instances; no allocation).
+/// any vertex work (4 bytes a triangle, counting instances; no allocation). Optionally it also
+/// keeps every vertex transformed and lit ([`RowCache::with_vertices`], 24 bytes a vertex), so
+/// that a vertex shared by several triangles, or by triangles drawn in several bands, is
+/// transformed and lit once a frame.
 ///
-/// Make a new one (or [`RowCache::reset`]) at the start of every frame — the rows depend on
-/// the camera and transforms — then pass it to [`draw_model_cached`] for each band.
+/// Make a new one (or [`RowCache::reset`]) at the start of every frame — rows and vertices
+/// depend on the camera, transforms and lights — then pass it to [`draw_model_cached`] for each
+/// band.
 pub struct RowCache<'s> {
     rows: &'s mut [TriangleRows],
+    vertices: &'s mut [TransformedVertex],
 }
 
 impl<'s> RowCache<'s> {
     /// A cache over `rows` (contents are reset).
     pub fn new(rows: &'s mut [TriangleRows]) -> Self {
-        rows.fill(TriangleRows::UNKNOWN);
-        RowCache { rows }
+        Self::with_vertices(rows, &mut [])
+    }
+
+    /// A cache over `rows` and `vertices` (contents are reset): one entry a triangle and one a
+    /// vertex, counting instances (see [`Model::draw_counts`]).
+    /// A draw whose entries do not all fit is drawn without them.
+    pub fn with_vertices(rows: &'s mut [TriangleRows], vertices: &'s mut [TransformedVertex]) -> Self {
+        let mut cache = RowCache { rows, vertices };
+        cache.reset();
+        cache
     }
 
     /// Forgets everything (call at the start of a frame).
     pub fn reset(&mut self) {
         self.rows.fill(TriangleRows::UNKNOWN);
+        self.vertices.fill(TransformedVertex::UNKNOWN);
     }
+}
+
+/// Light and specular intensity reaching a vertex, 0..=65535 for 0..=1 (the varyings' 16.16
+/// scale, with 1.0 itself saturated: the pixel loop clamps light to 65535 anyway).
+type VertexLight = [u16; 4];
+
+/// Quantizes a light value in 0..=1 to [`VertexLight`]'s scale.
+fn quantize_light(x: f32) -> u16 {
+    (x * ONE + 0.5) as u16
+}
+
+/// A vertex's clip-space position and light, computed once a frame (see [`RowCache`]).
+#[derive(Clone, Copy, Debug)]
+pub struct TransformedVertex {
+    clip: [f32; 4],
+    light: VertexLight,
+}
+
+impl Default for TransformedVertex {
+    fn default() -> Self {
+        Self::UNKNOWN
+    }
+}
+
+/// The `w` of a vertex not transformed yet this frame: +0, so that the empty cache is all zero
+/// bytes (`.bss`, not flash). A vertex whose `w` really is +0 (on the eye plane) is simply
+/// transformed again at each use, with the same result.
+const UNKNOWN_W: u32 = 0;
+
+impl TransformedVertex {
+    /// Not yet transformed this frame.
+    pub const UNKNOWN: TransformedVertex =
+        TransformedVertex { clip: [0.0, 0.0, 0.0, f32::from_bits(UNKNOWN_W)], light: [0; 4] };
 }
 
 /// [`draw_model`] for frames drawn in bands: triangles that [`RowCache`] knows cannot touch
@@ -432,12 +485,16 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
     mut cache: Option<&mut RowCache<'_>>,
 ) -> Stats {
     let mut stats = Stats::default();
-    let mut offset = 0usize;
+    let (mut triangles, mut vertices) = (0usize, 0usize);
     for (mesh, world) in model.draws() {
-        let n = mesh.triangle_count() as usize;
-        let rows = cache.as_mut().and_then(|c| c.rows.get_mut(offset..offset + n));
-        stats += draw_mesh_with(band, ctx, model, &mesh, transform * world, rows);
-        offset += n;
+        let (nt, nv) = (mesh.triangle_count() as usize, mesh.vertex_count() as usize);
+        let caches = match cache.as_mut() {
+            Some(c) => (c.rows.get_mut(triangles..triangles + nt), c.vertices.get_mut(vertices..vertices + nv)),
+            None => (None, None),
+        };
+        stats += draw_mesh_with(band, ctx, model, &mesh, transform * world, caches);
+        triangles += nt;
+        vertices += nv;
     }
     stats
 }
@@ -464,6 +521,7 @@ fn sphere_visible(vp: &Mat4, world: &Mat4, (centre, radius): (Vec3, f32)) -> boo
 }
 
 /// Draws triangle `t` and returns the rows it can touch (for [`RowCache`]).
+#[allow(clippy::too_many_arguments)]
 fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
@@ -471,9 +529,10 @@ fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     t: u32,
     material: &Material,
     sampler: Option<&Sampler<'_>>,
+    vertices: Option<&mut [TransformedVertex]>,
     stats: &mut Stats,
 ) -> TriangleRows {
-    match front_end(ctx, s, t, material, sampler, band.height, stats) {
+    match front_end(ctx, s, (t, vertices), material, sampler, band.height, stats) {
         Front::Done(rows) => rows,
         Front::Inside(screen, known) => draw_polygon(band, ctx, s.flip, &screen, known, material, sampler, stats),
         Front::Clipped(tri) => draw_clipped(band, ctx, s.flip, &tri, material, sampler, stats),
@@ -497,15 +556,20 @@ enum Front {
 fn front_end<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
-    t: u32,
+    (t, vertices): (u32, Option<&mut [TransformedVertex]>),
     material: &Material,
     sampler: Option<&Sampler<'_>>,
     height: u16,
     stats: &mut Stats,
 ) -> Front {
     let idx = s.arrays.triangle(t);
-    let qv = idx.map(|i| s.arrays.position_stored(i).extend(1.0));
-    let clip = qv.map(|p| s.mvp * p);
+    let (clip, lights) = match vertices {
+        Some(cache) => {
+            let v = idx.map(|i| transformed(ctx, s, cache, i));
+            (v.map(|v| Vec4::from_array(v.clip)), Some(v.map(|v| v.light)))
+        }
+        None => (idx.map(|i| clip_position(s, i)), None),
+    };
     if crate::clip::outside_view(clip) || !clip.iter().all(|c| c.is_finite()) {
         stats.culled_frustum += 1;
         return Front::Done(TriangleRows::EMPTY);
@@ -536,7 +600,7 @@ fn front_end<const L: usize>(
         }
         known_rows = Some(rows);
     }
-    let tri = vertex_varyings(ctx, s, &idx, &qv, &clip, sampler);
+    let tri = vertex_varyings(ctx, s, &idx, &clip, lights, sampler);
     match classify(&tri, &ctx.planes) {
         ClipResult::Outside => {
             stats.culled_frustum += 1;
@@ -649,46 +713,87 @@ fn count_reject(r: Reject, stats: &mut Stats) {
     }
 }
 
+/// Vertex `i` in clip space.
+fn clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
+    s.mvp * s.arrays.position_stored(i).extend(1.0)
+}
+
+/// Vertex `i` in world space.
+fn world_position(s: &DrawSetup<'_>, i: u32) -> Vec3 {
+    s.model_q.transform_point3(s.arrays.position_stored(i))
+}
+
+/// Vertex `i`'s world-space unit normal.
+fn world_normal(s: &DrawSetup<'_>, i: u32) -> Vec3 {
+    let n = s.normals * s.arrays.normal(i);
+    if s.rotation {
+        n
+    } else {
+        normalize_or_zero(n)
+    }
+}
+
+/// Gouraud light of vertex `i` (zero for the other shadings, which do not use it).
+fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
+    if ctx.opts.shading != Shading::Gouraud {
+        return [0; 4];
+    }
+    let n = world_normal(s, i);
+    // Directional and hemispheric light need no position.
+    let p = if ctx.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
+    let l = ctx.vertex_lights.at(p, n);
+    [l.x, l.y, l.z, ctx.lights.specular_at(p, n, ctx.eye)].map(quantize_light)
+}
+
+/// Vertex `i` from the frame's cache, transformed and lit on first use.
+fn transformed<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    cache: &mut [TransformedVertex],
+    i: u32,
+) -> TransformedVertex {
+    let fresh = || TransformedVertex { clip: clip_position(s, i).to_array(), light: vertex_light(ctx, s, i) };
+    match cache.get_mut(i as usize) {
+        Some(v) if v.clip[3].to_bits() == UNKNOWN_W => {
+            *v = fresh();
+            *v
+        }
+        Some(v) => *v,
+        None => fresh(),
+    }
+}
+
 /// The clip-space triangle with its varyings for the shading mode (see the slot constants).
+/// `gouraud`: the vertices' [`vertex_light`]s when already known.
 fn vertex_varyings<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     idx: &[u32; 3],
-    qv: &[Vec4; 3],
     clip: &[Vec4; 3],
+    gouraud: Option<[VertexLight; 3]>,
     sampler: Option<&Sampler<'_>>,
 ) -> [ClipVertex; 3] {
-    let world: [Vec3; 3] = core::array::from_fn(|k| (s.model_q * qv[k]).truncate());
-    let normal = |k: usize| {
-        let n = s.normals * s.arrays.normal(idx[k]);
-        if s.rotation {
-            n
-        } else {
-            normalize_or_zero(n)
-        }
-    };
-    let lights = ctx.lights;
-    let eye = ctx.eye;
+    let shading = ctx.opts.shading;
+    let world = || idx.map(|i| world_position(s, i));
     // Light and specular per vertex (unlit, flat, Gouraud) or nothing (Phong lights per pixel).
-    let lit: [(Vec3, f32); 3] = match ctx.opts.shading {
-        Shading::Unlit | Shading::Phong => [(Vec3::ONE, 0.0); 3],
+    let lit: [VertexLight; 3] = match shading {
+        Shading::Unlit | Shading::Phong => [[u16::MAX, u16::MAX, u16::MAX, 0]; 3],
         Shading::Flat => {
             // Face normal from the world-space triangle. Front faces wind counter-clockwise as
             // seen (y up), and with +z pointing away from the viewer that makes
             // (p2-p0) x (p1-p0) point towards the viewer, i.e. outward.
-            let p = &world;
+            let p = world();
             let mut n = normalize_or_zero((p[2] - p[0]).cross(p[1] - p[0]));
             if s.flip {
                 n = -n;
             }
             let centre = (p[0] + p[1] + p[2]) / 3.0;
-            [(ctx.vertex_lights.at(centre, n), lights.specular_at(centre, n, eye)); 3]
+            let l = ctx.vertex_lights.at(centre, n);
+            [[l.x, l.y, l.z, ctx.lights.specular_at(centre, n, ctx.eye)].map(quantize_light); 3]
         }
-        Shading::Gouraud => core::array::from_fn(|k| {
-            let n = normal(k);
-            (ctx.vertex_lights.at(world[k], n), lights.specular_at(world[k], n, eye))
-        }),
+        Shading::Gouraud => gouraud.unwrap_or_else(|| idx.map(|i| vertex_light(ctx, s, i))),
     };
+    let phong_world = if shading == Shading::Phong { world() } else { [Vec3::ZERO; 3] };
     let tex_size = sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * ONE, sm.height() as f32 * ONE));
     core::array::from_fn(|k| {
         let uv = s.arrays.uv_q(idx[k]);
@@ -696,18 +801,18 @@ fn vertex_varyings<const L: usize>(
         let mut varyings = [0.0; MAX_VARYINGS];
         varyings[U] = (o[0] + uv[0] as f32 * sc[0]) * tex_size.0;
         varyings[V_] = (o[1] + uv[1] as f32 * sc[1]) * tex_size.1;
-        if ctx.opts.shading == Shading::Phong {
-            let n = normal(k);
+        if shading == Shading::Phong {
+            let n = world_normal(s, idx[k]);
             varyings[NORMAL..NORMAL + 3].copy_from_slice(&(n * ONE).to_array());
-            varyings[POSITION..POSITION + 3].copy_from_slice(&(world[k] * ONE).to_array());
+            varyings[POSITION..POSITION + 3].copy_from_slice(&(phong_world[k] * ONE).to_array());
         } else {
             let c = s.arrays.color(idx[k]);
             for ch in 0..3 {
                 // White (no vertex colours) scales by exactly 1: skip the division.
                 let scale = if c[ch] == 255 { 1.0 } else { c[ch] as f32 / 255.0 };
-                varyings[LIGHT + ch] = lit[k].0[ch] * scale * ONE;
+                varyings[LIGHT + ch] = lit[k][ch] as f32 * scale;
             }
-            varyings[SPECULAR] = lit[k].1 * ONE;
+            varyings[SPECULAR] = lit[k][3] as f32;
         }
         ClipVertex { pos: clip[k], varyings }
     })
@@ -742,6 +847,12 @@ fn project_xy(pos: Vec4, (hw, hh): (f32, f32)) -> ScreenVertex {
 trait Base: Copy {
     /// The colour at texel coordinates `(u, v)`, or `None` for a cut-out texel.
     fn base(&self, u: i32, v: i32) -> Option<[u8; 3]>;
+
+    /// That colour lit by `light` (16.16 per channel) in the frame's format.
+    #[inline(always)]
+    fn lit<C: FrameColor>(&self, u: i32, v: i32, light: [i32; 3]) -> Option<C> {
+        self.base(u, v).map(|rgb| C::from_rgb888(modulate(rgb, light)))
+    }
 }
 
 /// Untextured: the material's diffuse colour.
@@ -760,6 +871,12 @@ impl Base for Repeat565<'_> {
     fn base(&self, u: i32, v: i32) -> Option<[u8; 3]> {
         Some(self.sample(u, v))
     }
+
+    /// Straight from the RGB565 texel (RGB565 frames never widen it to 8 bits).
+    #[inline(always)]
+    fn lit<C: FrameColor>(&self, u: i32, v: i32, light: [i32; 3]) -> Option<C> {
+        Some(C::from_lit_rgb565(self.texel(u, v), light))
+    }
 }
 
 impl Base for Sampler<'_> {
@@ -774,6 +891,8 @@ impl Base for Sampler<'_> {
 trait Lighting {
     /// Light per channel in 16.16 (1.0 = 65536) from the pixel's varyings.
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3];
+    /// Whether [`Lighting::highlight`] can be other than black.
+    const HIGHLIGHT: bool = false;
     /// Colour added after lighting (specular highlight), 0..=255 per channel.
     #[inline(always)]
     fn highlight<const V: usize>(&self, _v: &[i32; V]) -> [u8; 3] {
@@ -805,6 +924,7 @@ impl Lighting for White {
 struct Specular([u8; 3]);
 
 impl Lighting for Specular {
+    const HIGHLIGHT: bool = true;
     #[inline(always)]
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
         Interpolated.light(v)
@@ -948,17 +1068,9 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
             if !cell.passes(z) {
                 rejected += 1;
                 // A cut-out texel writes neither colour nor depth.
-            } else if let Some(rgb) = base.base(v[U], v[V_]) {
-                let mut rgb = modulate(rgb, self.lighting.light(&v));
-                let extra = self.lighting.highlight(&v);
-                if extra != [0; 3] {
-                    rgb = core::array::from_fn(|c| rgb[c].saturating_add(extra[c]));
-                }
-                *px = if DITHER {
-                    C::from_rgb888_dithered(rgb, (s.x + k as i32) as u32, s.y as u32)
-                } else {
-                    C::from_rgb888(rgb)
-                };
+            } else if let Some(c) = lit_fragment::<C, B, Lt, V, DITHER>(&base, self.lighting, &v, (s.x + k as i32, s.y))
+            {
+                *px = c;
                 cell.store(z);
             } else {
                 cut += 1;
@@ -969,6 +1081,26 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
         self.written += s.len - rejected - cut;
         self.rejected += rejected;
     }
+}
+
+/// The lit colour of the fragment with varyings `v` at `(x, y)`, or `None` where the texture
+/// cuts it out.
+#[inline(always)]
+fn lit_fragment<C: FrameColor, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
+    base: &B,
+    lighting: &Lt,
+    v: &[i32; V],
+    (x, y): (i32, i32),
+) -> Option<C> {
+    let light = lighting.light(v);
+    if !DITHER && !Lt::HIGHLIGHT {
+        // Straight to the frame's format (RGB565 stays RGB565).
+        return base.lit(v[U], v[V_], light);
+    }
+    let rgb = modulate(base.base(v[U], v[V_])?, light);
+    let extra = lighting.highlight(v);
+    let rgb: [u8; 3] = core::array::from_fn(|c| rgb[c].saturating_add(extra[c]));
+    Some(if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) })
 }
 
 impl LitBy {

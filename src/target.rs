@@ -30,6 +30,14 @@ pub trait FrameColor: Copy {
         let _ = (x, y);
         Self::from_rgb888(rgb)
     }
+    /// An RGB565 texel lit by `light` (16.16 per channel): [`modulate`](crate::shade::modulate)
+    /// of the widened texel, converted. RGB565 formats override it with
+    /// [`modulate565`](crate::shade::modulate565), which stays in RGB565 (within one step).
+    #[inline(always)]
+    fn from_lit_rgb565(texel: u16, light: [i32; 3]) -> Self {
+        let [r, g, b, _] = crate::format::decode_texel(crate::format::TextureFormat::Rgb565, &texel.to_le_bytes());
+        Self::from_rgb888(crate::shade::modulate([r, g, b], light))
+    }
 }
 
 /// The 4x4 Bayer matrix: thresholds 0..16.
@@ -104,6 +112,10 @@ impl FrameColor for Rgb565 {
     fn to_rgb888(self) -> [u8; 3] {
         [WIDEN5[self.r() as usize], WIDEN6[self.g() as usize], WIDEN5[self.b() as usize]]
     }
+    #[inline(always)]
+    fn from_lit_rgb565(texel: u16, light: [i32; 3]) -> Self {
+        Rgb565::from(embedded_graphics_core::pixelcolor::raw::RawU16::new(crate::shade::modulate565(texel, light)))
+    }
 }
 
 impl FrameColor for Gray8 {
@@ -154,6 +166,10 @@ impl FrameColor for Rgb565Be {
     #[inline]
     fn from_rgb888_dithered(rgb: [u8; 3], x: u32, y: u32) -> Self {
         Self::from(Rgb565::from_rgb888_dithered(rgb, x, y))
+    }
+    #[inline(always)]
+    fn from_lit_rgb565(texel: u16, light: [i32; 3]) -> Self {
+        Rgb565Be(crate::shade::modulate565(texel, light).to_be_bytes())
     }
     #[inline]
     fn to_rgb888(self) -> [u8; 3] {

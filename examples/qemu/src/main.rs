@@ -32,7 +32,7 @@ use semihosting::fs::File;
 use semihosting::io::Write as _;
 use semihosting::{eprintln, println, process};
 use serde::Serialize;
-use soft3d::{reference, Band, Model, RowCache, Stats, TriangleRows};
+use soft3d::{reference, Band, Model, RowCache, Stats, TransformedVertex, TriangleRows};
 
 /// The reference scene, converted at build time (see build.rs).
 static SUZANNE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
@@ -46,6 +46,8 @@ const BAND_PIXELS: usize = WIDTH as usize * BAND_ROWS;
 const _: () = assert!(BAND_ROWS * BANDS == HEIGHT as usize, "BANDS must divide HEIGHT");
 /// Triangles of the Suzanne model (one row-cache entry each).
 const TRIANGLES: usize = 966;
+/// Vertices of the Suzanne model (one transformed-vertex entry each, 24 bytes).
+const VERTICES: usize = 886;
 /// Frames rendered; the image file and the statistics are those of the last one.
 const FRAMES: u32 = if cfg!(feature = "two-frames") { 2 } else { 1 };
 /// Where the last frame goes, relative to QEMU's working directory: little-endian RGB565,
@@ -97,8 +99,14 @@ fn run() -> Result<(), &'static str> {
     let rows_seen: &'static mut [TriangleRows; TRIANGLES] =
         cortex_m::singleton!(ROWS: [TriangleRows; TRIANGLES] = [TriangleRows::UNKNOWN; TRIANGLES])
             .ok_or("row cache taken")?;
+    let vertices_seen: &'static mut [TransformedVertex; VERTICES] =
+        cortex_m::singleton!(VERTS: [TransformedVertex; VERTICES] = [TransformedVertex::UNKNOWN; VERTICES])
+            .ok_or("vertex cache taken")?;
 
     let model = Model::parse(SUZANNE).map_err(|_| "suzanne.s3d does not parse")?;
+    if model.draw_counts() != (TRIANGLES, VERTICES) {
+        return Err("suzanne.s3d does not have the expected triangle and vertex counts");
+    }
     // The reference frame, shared with the host test that compares our output.
     let camera = reference::camera(WIDTH, HEIGHT);
     let lights = reference::lights();
@@ -115,8 +123,8 @@ fn run() -> Result<(), &'static str> {
         stats = Stats::default();
         covered = 0;
         // Rows each triangle covers, learnt in the first band it is drawn in, so that later
-        // bands skip it before any vertex work.
-        let mut cache = RowCache::new(&mut rows_seen[..]);
+        // bands skip it before any vertex work; each vertex transformed and lit once.
+        let mut cache = RowCache::with_vertices(&mut rows_seen[..], &mut vertices_seen[..]);
         for b in 0..BANDS {
             let first_row = (b * BAND_ROWS) as u16;
             {
