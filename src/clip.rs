@@ -53,25 +53,29 @@ impl Planes {
     }
 }
 
-/// Whether all three points are outside one of the *viewport* planes (or near/far): such a
-/// triangle cannot cover any pixel.
+/// Whether the triangle cannot cover any pixel because all three points are outside one of
+/// the *viewport* planes (or near/far), or has a coordinate that is not finite.
+///
+/// Branch-free: the sign bits of each point's six plane distances, ANDed over the points. A
+/// distance of -0.0 counts as outside; it needs `w = -0.0`, a point at the eye, which the near
+/// plane removes anyway. `x·0` is NaN exactly for infinite or NaN `x`, and sums of zeros are
+/// zero, so one comparison tests all twelve coordinates.
 #[inline]
 #[must_use]
-pub fn outside_view(p: [Vec4; 3]) -> bool {
-    let out = |f: fn(Vec4) -> f32| p.iter().all(|&v| f(v) < 0.0);
-    out(|v| v.z + v.w)
-        || out(|v| v.w - v.z)
-        || out(|v| v.w + v.x)
-        || out(|v| v.w - v.x)
-        || out(|v| v.w + v.y)
-        || out(|v| v.w - v.y)
+pub fn outside_view_or_not_finite(p: [Vec4; 3]) -> bool {
+    let outside = |v: Vec4| {
+        let d = [v.z + v.w, v.w - v.z, v.w + v.x, v.w - v.x, v.w + v.y, v.w - v.y];
+        d.iter().enumerate().fold(0, |mask, (k, d)| mask | (d.to_bits() >> 31) << k)
+    };
+    let zeros = p.iter().fold(0.0, |sum, v| sum + (v.x * 0.0 + v.y * 0.0) + (v.z * 0.0 + v.w * 0.0));
+    outside(p[0]) & outside(p[1]) & outside(p[2]) != 0 || zeros != 0.0
 }
 
 /// Clips triangle `tri` into `out`.
 pub fn clip_triangle(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) -> ClipResult {
     out.clear();
     let positions = [tri[0].pos, tri[1].pos, tri[2].pos];
-    if !positions.iter().all(|p| p.is_finite()) || outside_view(positions) {
+    if outside_view_or_not_finite(positions) {
         return ClipResult::Outside;
     }
     match classify(tri, planes) {
@@ -168,5 +172,39 @@ mod tests {
         assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Outside);
         let tri = [v(0.0, 0.0, -2.0, -1.0), v(0.5, 0.0, -2.0, -1.0), v(0.0, 0.5, -2.0, -1.0)];
         assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Outside);
+    }
+
+    /// Each plane on its own, points exactly on a plane, and every non-finite coordinate.
+    #[test]
+    fn outside_view_finds_each_plane_and_every_non_finite_coordinate() {
+        let p = Vec4::new;
+        let inside = [p(0.0, 0.0, 0.5, 1.0), p(0.5, 0.0, 0.5, 1.0), p(0.0, 0.5, 0.5, 1.0)];
+        assert!(!outside_view_or_not_finite(inside));
+        // Exactly on the left plane (x = -w) with the other points inside: kept.
+        assert!(!outside_view_or_not_finite([p(-1.0, 0.0, 0.5, 1.0), inside[1], inside[2]]));
+        // All three on the plane itself: distance +0, kept (may still cover pixel centres).
+        assert!(!outside_view_or_not_finite([p(-1.0, 0.0, 0.5, 1.0), p(-1.0, 0.5, 0.5, 1.0), p(-2.0, 0.0, 0.5, 2.0)]));
+        for axis in 0..3 {
+            for side in [-1.0, 1.0] {
+                let beyond = |t: f32| {
+                    let mut c = [t, 0.1, 0.5 * side];
+                    c[axis] = side * 1.5;
+                    p(c[0], c[1], c[2], 1.0)
+                };
+                let tri = [beyond(0.0), beyond(0.2), beyond(-0.2)];
+                assert!(outside_view_or_not_finite(tri), "axis {axis}, side {side}");
+                // One point back inside: the triangle may cross the view.
+                assert!(!outside_view_or_not_finite([tri[0], tri[1], inside[0]]), "axis {axis}, side {side}");
+            }
+        }
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            for k in 0..12 {
+                let mut tri = inside;
+                tri[k / 4][k % 4] = bad;
+                assert!(outside_view_or_not_finite(tri), "{bad} at {k}");
+            }
+        }
+        // Huge but finite: not culled for being huge.
+        assert!(!outside_view_or_not_finite([p(1e30, 0.0, 0.5, 1e30), inside[1], inside[2]]));
     }
 }

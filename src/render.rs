@@ -570,7 +570,7 @@ fn front_end<const L: usize>(
         }
         None => (idx.map(|i| clip_position(s, i)), None),
     };
-    if crate::clip::outside_view(clip) || !clip.iter().all(|c| c.is_finite()) {
+    if crate::clip::outside_view_or_not_finite(clip) {
         stats.culled_frustum += 1;
         return Front::Done(TriangleRows::EMPTY);
     }

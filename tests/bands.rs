@@ -3,7 +3,7 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 use soft3d::format::{emit, EmitOptions, Model};
 use soft3d::math::Mat4;
 use soft3d::render::{draw_model_sorted, SortEntry};
-use soft3d::{Band, Camera, Lights, Mode, NoDepth, RenderOptions, RowCache, Shading, TriangleRows};
+use soft3d::{Band, Camera, Lights, Mode, NoDepth, RenderOptions, RowCache, Shading, TransformedVertex, TriangleRows};
 
 mod common;
 use common::{scene, ASSETS};
@@ -23,6 +23,8 @@ fn camera(model: &Model<'_>) -> Camera {
 }
 
 /// Renders the frame in bands of `rows` rows (the last may be shorter): colour and u16 depth.
+/// Bands use a [`RowCache`]: with every vertex cached for 1-row bands, without a vertex cache
+/// for 7 rows, and with a vertex cache one entry short (the last draw goes uncached) for others.
 fn render(model: &Model<'_>, opts: &RenderOptions, rows: u16) -> (Vec<Rgb888>, Vec<u16>) {
     let (w, h) = (W as usize, H as usize);
     let mut color = vec![Rgb888::new(0, 0, 0); w * h];
@@ -30,9 +32,17 @@ fn render(model: &Model<'_>, opts: &RenderOptions, rows: u16) -> (Vec<Rgb888>, V
     let cam = camera(model);
     let lights = Lights::<4>::from_model(model);
     let spin = Mat4::from_rotation_y(0.3);
-    let triangles: usize = model.draws().map(|(m, _)| m.triangle_count() as usize).sum();
+    let (triangles, vertices) = model.draws().fold((0, 0), |(t, v), (m, _)| {
+        (t + m.triangle_count() as usize, v + m.vertex_count() as usize)
+    });
+    assert_eq!(model.draw_counts(), (triangles, vertices));
     let mut seen = vec![TriangleRows::default(); triangles];
-    let mut cache = RowCache::new(&mut seen);
+    let mut transformed = vec![TransformedVertex::default(); vertices];
+    let mut cache = match rows {
+        1 => RowCache::with_vertices(&mut seen, &mut transformed),
+        7 => RowCache::new(&mut seen),
+        _ => RowCache::with_vertices(&mut seen, &mut transformed[1..]),
+    };
     for (k, (c, z)) in color.chunks_mut(rows as usize * w).zip(depth.chunks_mut(rows as usize * w)).enumerate() {
         let mut band = Band::new(c, z, W, H, k as u16 * rows).unwrap();
         band.clear(Rgb888::new(10, 20, 30));
