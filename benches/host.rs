@@ -15,6 +15,10 @@
 //! 5. triangle rate: UV spheres of ~1k, ~10k and ~100k triangles, Gouraud, untextured, 640x480;
 //! 6. the reference frame at 240x240 in 8 bands of 240x30 (with and without a `RowCache`)
 //!    versus 1 band;
+//!
+//! soft3d draws through `draw_model_cached` with a `RowCache` holding every triangle's rows and
+//! every transformed vertex (scratch allocated once), as a frame-drawing application would;
+//! scene 6 also shows 8 bands of plain `draw_model`, without any cache.
 //! 7. euc 0.5 rendering the same Suzanne mesh (same triangles, matrices, texture, lights).
 //!
 //! Side effects (once, outside the timing): `out/bench-soft3d.png` and `out/bench-euc.png`, the
@@ -35,7 +39,8 @@ use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
 use soft3d::format::{emit, EmitOptions};
 use soft3d::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3};
 use soft3d::{
-    reference, Band, Camera, FrameColor, Lights, Model, RenderOptions, RowCache, Shading, Stats, TriangleRows,
+    reference, Band, Camera, FrameColor, Lights, Model, RenderOptions, RowCache, Shading, Stats, TransformedVertex,
+    TriangleRows,
 };
 
 const SAMPLE_SIZE: usize = 20;
@@ -139,12 +144,14 @@ fn fill_quads(aspect: f32, texture: TextureData) -> Vec<u8> {
     emit(&one_mesh_scene(mesh, material, vec![texture]), &EmitOptions::default()).expect("emit quads")
 }
 
-/// A whole-frame colour and depth buffer for soft3d.
+/// A whole-frame colour and depth buffer for soft3d, and the scratch of its [`RowCache`].
 struct Frame {
     width: u16,
     height: u16,
     color: Vec<Rgb565>,
     depth: Vec<u16>,
+    rows_seen: Vec<TriangleRows>,
+    vertices_seen: Vec<TransformedVertex>,
 }
 
 /// Everything one soft3d frame needs besides the buffers.
@@ -159,11 +166,19 @@ struct Job<'m, const L: usize> {
 impl Frame {
     fn new(width: u16, height: u16) -> Self {
         let n = width as usize * height as usize;
-        Frame { width, height, color: vec![Rgb565::BLACK; n], depth: vec![0; n] }
+        Frame {
+            width,
+            height,
+            color: vec![Rgb565::BLACK; n],
+            depth: vec![0; n],
+            rows_seen: Vec::new(),
+            vertices_seen: Vec::new(),
+        }
     }
 
-    /// One frame in bands of `rows` rows (the last band may be shorter): clear and draw each.
-    fn render<const L: usize>(&mut self, job: &Job<'_, L>, rows: u16) -> Stats {
+    /// One frame in bands of `rows` rows (the last band may be shorter) with plain
+    /// `draw_model`: clear and draw each.
+    fn render_uncached<const L: usize>(&mut self, job: &Job<'_, L>, rows: u16) -> Stats {
         let chunk = rows as usize * self.width as usize;
         let mut stats = Stats::default();
         for (k, (c, z)) in self.color.chunks_mut(chunk).zip(self.depth.chunks_mut(chunk)).enumerate() {
@@ -174,10 +189,14 @@ impl Frame {
         stats
     }
 
-    /// Like [`Frame::render`], with a [`RowCache`] over `scratch` (one entry a triangle, reset
-    /// at the start of the frame) so that later bands skip triangles that cannot touch them.
-    fn render_cached<const L: usize>(&mut self, job: &Job<'_, L>, rows: u16, scratch: &mut [TriangleRows]) -> Stats {
-        let mut cache = RowCache::new(scratch);
+    /// Like [`Frame::render_uncached`], with a [`RowCache`] of every triangle's rows and every
+    /// transformed vertex (reset at the start of the frame): each vertex is transformed and
+    /// lit once, and later bands skip triangles that cannot touch them.
+    fn render<const L: usize>(&mut self, job: &Job<'_, L>, rows: u16) -> Stats {
+        let (triangles, vertices) = job.model.draw_counts();
+        self.rows_seen.resize(triangles, TriangleRows::UNKNOWN);
+        self.vertices_seen.resize(vertices, TransformedVertex::UNKNOWN);
+        let mut cache = RowCache::with_vertices(&mut self.rows_seen, &mut self.vertices_seen);
         let chunk = rows as usize * self.width as usize;
         let mut stats = Stats::default();
         for (k, (c, z)) in self.color.chunks_mut(chunk).zip(self.depth.chunks_mut(chunk)).enumerate() {
@@ -453,15 +472,13 @@ fn main() {
         row(&format!("Suzanne reference 240x240, {n} band(s) of 240x{rows}"), t, None);
         band_times.push(t);
     }
-    // The same 8 bands with a RowCache (scratch allocated once, reset every frame).
-    let triangles: u32 = suzanne.draws().map(|(m, _)| m.triangle_count()).sum();
-    let mut scratch = vec![TriangleRows::default(); triangles as usize];
-    let stats = frame.render_cached(&job, 30, &mut scratch);
-    println!("bands 8x30 rows, RowCache: covered {}, {stats:?}", frame.covered());
-    let t = bench(&mut g, "8x240x30-rowcache", || {
-        std::hint::black_box(frame.render_cached(&job, 30, &mut scratch));
+    // The same 8 bands with plain draw_model: no cache at all.
+    let stats = frame.render_uncached(&job, 30);
+    println!("bands 8x30 rows, no cache: covered {}, {stats:?}", frame.covered());
+    let t = bench(&mut g, "8x240x30-uncached", || {
+        std::hint::black_box(frame.render_uncached(&job, 30));
     });
-    row("Suzanne reference 240x240, 8 band(s) of 240x30 + RowCache", t, None);
+    row("Suzanne reference 240x240, 8 band(s) of 240x30, no RowCache", t, None);
     band_times.push(t);
     g.finish();
 
@@ -547,9 +564,9 @@ fn main() {
         };
         println!("| {} | {} | {} | {} |", r.scene, ms(r.soft3d), ms(r.euc), ratio);
     }
-    if let [Some(one), eight, cached] = band_times[..] {
+    if let [Some(one), eight, uncached] = band_times[..] {
         println!();
-        for (what, t) in [("8 bands of 240x30", eight), ("8 bands of 240x30 + RowCache", cached)] {
+        for (what, t) in [("8 bands of 240x30", eight), ("8 bands of 240x30 without RowCache", uncached)] {
             if let Some(t) = t {
                 println!("{what} vs 1 band of 240x240: {t:.3} / {one:.3} ms = {:.2}x", t / one);
             }

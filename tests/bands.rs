@@ -32,9 +32,8 @@ fn render(model: &Model<'_>, opts: &RenderOptions, rows: u16) -> (Vec<Rgb888>, V
     let cam = camera(model);
     let lights = Lights::<4>::from_model(model);
     let spin = Mat4::from_rotation_y(0.3);
-    let (triangles, vertices) = model.draws().fold((0, 0), |(t, v), (m, _)| {
-        (t + m.triangle_count() as usize, v + m.vertex_count() as usize)
-    });
+    let (triangles, vertices) =
+        model.draws().fold((0, 0), |(t, v), (m, _)| (t + m.triangle_count() as usize, v + m.vertex_count() as usize));
     assert_eq!(model.draw_counts(), (triangles, vertices));
     let mut seen = vec![TriangleRows::default(); triangles];
     let mut transformed = vec![TransformedVertex::default(); vertices];
