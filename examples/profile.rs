@@ -15,7 +15,7 @@ fn main() {
         _ => soft3d::Shading::Gouraud,
     };
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/suzanne/monkey.babylon");
-    let opts = ConvertOptions { uv_origin: UvOrigin::Top, ..Default::default() };
+    let opts = ConvertOptions { uv_origin: UvOrigin::Top, max_texture: Some(128), ..Default::default() };
     let (scene, _) = read_babylon_file(path.as_ref(), &opts).expect("asset converts");
     let bytes = emit(&scene, &EmitOptions { float_positions: true, ..Default::default() }).expect("emit");
     let model = Model::parse(&bytes).expect("parse");
@@ -26,10 +26,11 @@ fn main() {
     let mut depth = vec![0u16; w * rows];
     let start = std::time::Instant::now();
     let mut pixels = 0;
-    let triangles: usize = model.draws().map(|(m, _)| m.triangle_count() as usize).sum();
+    let (triangles, vertices) = model.draw_counts();
     let mut rows_seen = vec![soft3d::TriangleRows::default(); triangles];
+    let mut vertices_seen = vec![soft3d::TransformedVertex::default(); vertices];
     for _ in 0..frames {
-        let mut cache = soft3d::RowCache::new(&mut rows_seen);
+        let mut cache = soft3d::RowCache::with_vertices(&mut rows_seen, &mut vertices_seen);
         for first in (0..h).step_by(rows) {
             let n = rows.min(h - first) * w;
             let mut band = Band::new(&mut color[..n], &mut depth[..n], w as u16, h as u16, first as u16).expect("band");
