@@ -336,20 +336,24 @@ fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     for sub in mesh.submeshes() {
         let material = sub.material.and_then(|m| model.material(m)).unwrap_or_default();
         let sampler = ctx.sampler(model, mesh, &material);
-        let first = sub.first_triangle;
-        for t in first..first + sub.triangle_count {
-            let cached = rows.as_deref_mut().and_then(|r| r.get_mut(t as usize));
-            if let Some(r) = &cached {
-                if !r.may_touch(ctx.window.row_start, ctx.window.row_end) {
-                    stats.outside_band += 1;
-                    continue;
+        let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
+        let mut draw = |t: u32, stats: &mut Stats| {
+            draw_triangle(band, ctx, &setup, t, &material, sampler.as_ref(), vertices.as_deref_mut(), stats)
+        };
+        match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
+            Some(seen) => {
+                let (start, end) = (ctx.window.row_start, ctx.window.row_end);
+                for (t, r) in range.zip(seen) {
+                    if r.may_touch(start, end) {
+                        *r = draw(t, &mut stats);
+                    } else {
+                        stats.outside_band += 1;
+                    }
                 }
             }
-            let verts = vertices.as_deref_mut();
-            let seen = draw_triangle(band, ctx, &setup, t, &material, sampler.as_ref(), verts, &mut stats);
-            if let Some(r) = cached {
-                *r = seen;
-            }
+            None => range.for_each(|t| {
+                draw(t, &mut stats);
+            }),
         }
     }
     stats
