@@ -88,23 +88,59 @@ impl Edge {
         let c = a * (ox - p.x) + b * (oy - p.y) - i32::from(!owned);
         Edge { a, b, c }
     }
+}
 
-    /// Inclusive column range `[lo, hi]` (relative to the origin, in pixels) where this edge
-    /// is non-negative on the row `dy` pixels below the origin; `None` when none is.
-    #[inline]
-    fn span(&self, dy: i32, lo: i32, hi: i32) -> Option<(i32, i32)> {
-        let row = self.c + self.b * 16 * dy;
-        let step = self.a * 16;
-        if step > 0 {
-            // row + step * x >= 0  <=>  x >= ceil(-row / step) = -floor(row / step)
-            Some((lo.max(-floor_div(row, step)), hi))
-        } else if step < 0 {
-            // x <= floor(row / -step)
-            Some((lo, hi.min(floor_div(row, -step))))
-        } else if row >= 0 {
-            Some((lo, hi))
+/// An edge's bound on the covered columns of successive rows, stepped from row to row without
+/// a division. On a row, the edge function at column `x` (pixels from the origin) is
+/// `row + step·x` with `row = c + 16·b·dy` and `step = 16·a`. It is non-negative for
+/// `x >= -floor(row / step)` when `step > 0` and for `x <= floor(row / -step)` when
+/// `step < 0`; with `d = |step|`, `row = q·d + r` (`0 <= r < d`) is carried from row to row
+/// as quotient and remainder, which gives exactly those floors. Flat edges (`step = 0`)
+/// carry `row` itself in `q` (with `d = 1`, `r = 0`).
+#[derive(Clone, Copy, Debug)]
+struct EdgeWalk {
+    q: i32,
+    r: i32,
+    /// `16·b = dq·d + dr`, `0 <= dr < d`.
+    dq: i32,
+    dr: i32,
+    d: i32,
+    step: i32,
+}
+
+impl EdgeWalk {
+    /// The walk of `e` starting on the row `dy` pixels below the origin.
+    fn new(e: &Edge, dy: i32) -> Self {
+        let (row, b16, step) = (e.c + e.b * 16 * dy, e.b * 16, e.a * 16);
+        if step == 0 {
+            return EdgeWalk { q: row, r: 0, dq: b16, dr: 0, d: 1, step };
+        }
+        let d = step.abs();
+        let (q, dq) = (floor_div(row, d), floor_div(b16, d));
+        EdgeWalk { q, r: row - q * d, dq, dr: b16 - dq * d, d, step }
+    }
+
+    /// `[lo, hi]` narrowed to where this edge is non-negative on the current row.
+    #[inline(always)]
+    fn clamp(&self, (lo, hi): (i32, i32)) -> (i32, i32) {
+        if self.step > 0 {
+            (lo.max(-self.q), hi)
+        } else if self.step < 0 || self.q >= 0 {
+            (lo, if self.step < 0 { hi.min(self.q) } else { hi })
         } else {
-            None
+            // A flat edge with the whole row outside.
+            (1, 0)
+        }
+    }
+
+    /// On to the next row.
+    #[inline(always)]
+    fn next_row(&mut self) {
+        self.q += self.dq;
+        self.r += self.dr;
+        if self.r >= self.d {
+            self.r -= self.d;
+            self.q += 1;
         }
     }
 }
@@ -404,78 +440,94 @@ impl<const V: usize> Setup<V> {
         // Beyond 4096 no span is long enough to tell the difference; the cap keeps x + subspan
         // from overflowing.
         let subspan = subspan.clamp(1, 1 << 12) as i32;
-        for y in self.y0..=self.y1 {
-            // Rows are measured from the origin row in frame coordinates (see `new`).
-            let dy = y - self.origin_row;
-            let Some((lo, hi)) = self.row_span(dy) else { continue };
-            // Wrapping: exact whenever the depth is representable; needle triangles with absurd
-            // gradients only get clamped garbage, never a panic.
-            let z = self
-                .z_origin
-                .wrapping_add(self.z_dx.wrapping_mul(lo as i64))
-                .wrapping_add(self.z_dy.wrapping_mul(dy as i64));
-            if let Some(p) = &self.affine {
-                let (v, dv) = p.at(lo, dy);
-                self.emit(sink, y, lo, hi + 1, z, v, dv);
-                continue;
+        match &self.affine {
+            Some(p) => {
+                for (y, dy, lo, hi) in self.covered_rows() {
+                    let (v, dv) = p.at(lo, dy);
+                    self.emit(sink, y, lo, hi + 1, self.depth_at(lo, dy), v, dv);
+                }
             }
-            let e: [i32; 3] = core::array::from_fn(|k| {
-                let edge = &self.edges[k];
-                edge.c + edge.b * 16 * dy + edge.a * 16 * lo
-            });
-            let e_at = |x: i32| -> [i32; 3] { core::array::from_fn(|k| e[k] + self.edges[k].a * 16 * (x - lo)) };
-            let exact = |x: i32| self.varyings_at(e_at(x));
-            let adaptive = subspan == 1 && self.tolerance.iter().any(|&t| t > 0.0);
-            let mut xs = lo;
-            let mut start = exact(xs);
-            // Adaptive: the next segment's length to try, from the last one that passed (per
-            // row only, so that every band makes the same choices).
-            let mut try_len = hi - lo;
-            while xs <= hi {
-                let z = z.wrapping_add(self.z_dx.wrapping_mul((xs - lo) as i64));
-                if xs == hi {
-                    // The last pixel of the span on its own.
-                    self.emit(sink, y, xs, xs + 1, z, start.0, [0; V]);
-                    break;
+            None => {
+                for (y, dy, lo, hi) in self.covered_rows() {
+                    self.exact_row(sink, subspan, (y, dy, lo, hi));
                 }
-                // The segment's far end: `subspan` pixels on, or (adaptive) as far as linear
-                // steps are provably close enough, halving the distance until they are.
-                let mut xe = if adaptive { (xs + try_len).min(hi) } else { (xs + subspan).min(hi) };
-                let mut end = exact(xe);
-                while adaptive && xe > xs + 1 && !self.linear_within(&start, &end) {
-                    xe = xs + (xe - xs) / 2;
-                    end = exact(xe);
-                }
-                let len = xe - xs;
-                try_len = 2 * len;
-                let step = core::array::from_fn(|k| {
-                    let diff = end.0[k].wrapping_sub(start.0[k]);
-                    if len == subspan && subspan.count_ones() == 1 {
-                        diff >> subspan.trailing_zeros()
-                    } else {
-                        diff / len
-                    }
-                });
-                if adaptive && xe == hi {
-                    // Within tolerance up to the span's end: its last pixel steps there too.
-                    self.emit(sink, y, xs, xe + 1, z, start.0, step);
-                    break;
-                }
-                self.emit(sink, y, xs, xe, z, start.0, step);
-                xs = xe;
-                start = end;
             }
         }
     }
 
-    /// Columns `lo..=hi` (relative to `x0`) covered on the row `dy` below the origin row.
+    /// The covered rows of the window, top to bottom: `(y, dy, lo, hi)` with `y` the frame row,
+    /// `dy` its distance below the origin row and `lo..=hi` the covered columns (relative to
+    /// `x0`). Rows are measured from the origin row in frame coordinates (see `new`), so every
+    /// band starts its edge walks where the whole frame's would be on that row.
     #[inline(always)]
-    fn row_span(&self, dy: i32) -> Option<(i32, i32)> {
-        let (mut lo, mut hi) = (0, self.x1 - self.x0);
-        for e in &self.edges {
-            (lo, hi) = e.span(dy, lo, hi)?;
+    fn covered_rows(&self) -> impl Iterator<Item = (i32, i32, i32, i32)> + '_ {
+        let mut walks = self.edges.map(|e| EdgeWalk::new(&e, self.y0 - self.origin_row));
+        (self.y0..=self.y1).filter_map(move |y| {
+            let (lo, hi) = walks.iter().fold((0, self.x1 - self.x0), |span, w| w.clamp(span));
+            walks.iter_mut().for_each(EdgeWalk::next_row);
+            (lo <= hi).then_some((y, y - self.origin_row, lo, hi))
+        })
+    }
+
+    /// Depth (24.40) at column `x` of the row `dy` below the origin. Wrapping: exact whenever
+    /// the depth is representable; needle triangles with absurd gradients only get clamped
+    /// garbage, never a panic.
+    #[inline(always)]
+    fn depth_at(&self, x: i32, dy: i32) -> i64 {
+        self.z_origin.wrapping_add(self.z_dx.wrapping_mul(x as i64)).wrapping_add(self.z_dy.wrapping_mul(dy as i64))
+    }
+
+    /// One row with perspective-correct varyings: runs with exact values at their ends (see
+    /// [`Setup::for_each_span`]).
+    #[inline(always)]
+    fn exact_row(&self, sink: &mut dyn SpanSink<V>, subspan: i32, (y, dy, lo, hi): (i32, i32, i32, i32)) {
+        let z = self.depth_at(lo, dy);
+        let e: [i32; 3] = core::array::from_fn(|k| {
+            let edge = &self.edges[k];
+            edge.c + edge.b * 16 * dy + edge.a * 16 * lo
+        });
+        let e_at = |x: i32| -> [i32; 3] { core::array::from_fn(|k| e[k] + self.edges[k].a * 16 * (x - lo)) };
+        let exact = |x: i32| self.varyings_at(e_at(x));
+        let adaptive = subspan == 1 && self.tolerance.iter().any(|&t| t > 0.0);
+        let mut xs = lo;
+        let mut start = exact(xs);
+        // Adaptive: the next segment's length to try, from the last one that passed (per row
+        // only, so that every band makes the same choices).
+        let mut try_len = hi - lo;
+        while xs <= hi {
+            let z = z.wrapping_add(self.z_dx.wrapping_mul((xs - lo) as i64));
+            if xs == hi {
+                // The last pixel of the span on its own.
+                self.emit(sink, y, xs, xs + 1, z, start.0, [0; V]);
+                break;
+            }
+            // The segment's far end: `subspan` pixels on, or (adaptive) as far as linear steps
+            // are provably close enough, halving the distance until they are.
+            let mut xe = if adaptive { (xs + try_len).min(hi) } else { (xs + subspan).min(hi) };
+            let mut end = exact(xe);
+            while adaptive && xe > xs + 1 && !self.linear_within(&start, &end) {
+                xe = xs + (xe - xs) / 2;
+                end = exact(xe);
+            }
+            let len = xe - xs;
+            try_len = 2 * len;
+            let step = core::array::from_fn(|k| {
+                let diff = end.0[k].wrapping_sub(start.0[k]);
+                if len == subspan && subspan.count_ones() == 1 {
+                    diff >> subspan.trailing_zeros()
+                } else {
+                    diff / len
+                }
+            });
+            if adaptive && xe == hi {
+                // Within tolerance up to the span's end: its last pixel steps there too.
+                self.emit(sink, y, xs, xe + 1, z, start.0, step);
+                break;
+            }
+            self.emit(sink, y, xs, xe, z, start.0, step);
+            xs = xe;
+            start = end;
         }
-        (lo <= hi).then_some((lo, hi))
     }
 
     /// Sends columns `xs..xe` (relative to `x0`) of row `y` to `sink`, with depth `z` (24.40)
