@@ -53,48 +53,58 @@ impl Planes {
     }
 }
 
-/// Whether the triangle cannot cover any pixel because all three points are outside one of
-/// the *viewport* planes (or near/far), or has a coordinate that is not finite.
-///
-/// Branch-free: the sign bits of each point's six plane distances, ANDed over the points. A
-/// distance of -0.0 counts as outside; it needs `w = -0.0`, a point at the eye, which the near
-/// plane removes anyway. `x·0` is NaN exactly for infinite or NaN `x`, and sums of zeros are
-/// zero, so one comparison tests all twelve coordinates.
+/// [`outcode`] bits 0 to 5: outside the near, far, left, right, bottom or top view plane.
+pub const OUTSIDE_VIEW: u8 = 0x3f;
+/// [`outcode`] bit: a coordinate is infinite or NaN.
+pub const NOT_FINITE: u8 = 0x40;
+/// [`outcode`] bit: outside a clipping plane (near, far or the guard band).
+pub const NEEDS_CLIP: u8 = 0x80;
+
+/// Where a clip-space point lies: one bit per view plane it is outside ([`OUTSIDE_VIEW`]),
+/// [`NOT_FINITE`], and [`NEEDS_CLIP`]. Computed once per vertex (and kept in the renderer's
+/// vertex cache), so that per triangle culling and clipping decisions are bit operations.
+#[must_use]
+pub fn outcode(p: Vec4, planes: &Planes) -> u8 {
+    if !p.is_finite() {
+        return NOT_FINITE;
+    }
+    let view = [p.z + p.w, p.w - p.z, p.w + p.x, p.w - p.x, p.w + p.y, p.w - p.y];
+    let outside = view.iter().enumerate().fold(0, |code, (k, &d)| code | u8::from(d < 0.0) << k);
+    let clip = planes.distances(p).iter().any(|&d| !(d >= 0.0));
+    outside | if clip { NEEDS_CLIP } else { 0 }
+}
+
+/// Whether a triangle with these vertex outcodes cannot cover any pixel: all three outside
+/// one view plane, or a coordinate not finite.
 #[inline]
 #[must_use]
-pub fn outside_view_or_not_finite(p: [Vec4; 3]) -> bool {
-    let outside = |v: Vec4| {
-        let d = [v.z + v.w, v.w - v.z, v.w + v.x, v.w - v.x, v.w + v.y, v.w - v.y];
-        d.iter().enumerate().fold(0, |mask, (k, d)| mask | (d.to_bits() >> 31) << k)
-    };
-    let zeros = p.iter().fold(0.0, |sum, v| sum + (v.x * 0.0 + v.y * 0.0) + (v.z * 0.0 + v.w * 0.0));
-    outside(p[0]) & outside(p[1]) & outside(p[2]) != 0 || zeros != 0.0
+pub fn culled([a, b, c]: [u8; 3]) -> bool {
+    a & b & c & OUTSIDE_VIEW != 0 || (a | b | c) & NOT_FINITE != 0
 }
 
 /// Clips triangle `tri` into `out`.
 pub fn clip_triangle(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) -> ClipResult {
     out.clear();
-    let positions = [tri[0].pos, tri[1].pos, tri[2].pos];
-    if outside_view_or_not_finite(positions) {
+    let codes = tri.each_ref().map(|v| outcode(v.pos, planes));
+    if culled(codes) {
         return ClipResult::Outside;
     }
-    match classify(tri, planes) {
+    match classify(tri, codes, MAX_VARYINGS) {
         ClipResult::Clipped => cut(tri, planes, out),
         r => r,
     }
 }
 
-/// What [`clip_triangle`] would do with a triangle whose positions are known to be finite
-/// and not wholly outside a view plane (the renderer checks that before lighting), without
-/// cutting it: `Clipped` means it needs [`cut`].
-pub(crate) fn classify(tri: &[ClipVertex; 3], planes: &Planes) -> ClipResult {
+/// What [`clip_triangle`] would do with a triangle with vertex outcodes `codes` that is not
+/// [`culled`] (the renderer checks that before lighting), without cutting it: `Clipped` means
+/// it needs [`cut`]; `Outside` when one of its first `checked` varyings is not finite (the
+/// others are known to be).
+pub(crate) fn classify(tri: &[ClipVertex; 3], codes: [u8; 3], checked: usize) -> ClipResult {
     // `a · 0` is 0 for every finite `a` and NaN for infinities and NaN: one multiply-add each.
-    let junk: f32 = tri.iter().flat_map(|v| v.varyings).map(|a| a * 0.0).sum();
+    let junk: f32 = tri.iter().flat_map(|v| v.varyings.iter().take(checked)).map(|a| a * 0.0).sum();
     if junk != 0.0 {
-        return ClipResult::Outside;
-    }
-    let d: [[f32; 6]; 3] = core::array::from_fn(|i| planes.distances(tri[i].pos));
-    if d.iter().all(|di| di.iter().all(|&x| x >= 0.0)) {
+        ClipResult::Outside
+    } else if (codes[0] | codes[1] | codes[2]) & NEEDS_CLIP == 0 {
         ClipResult::Inside
     } else {
         ClipResult::Clipped
@@ -172,6 +182,10 @@ mod tests {
         assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Outside);
         let tri = [v(0.0, 0.0, -2.0, -1.0), v(0.5, 0.0, -2.0, -1.0), v(0.0, 0.5, -2.0, -1.0)];
         assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Outside);
+    }
+
+    fn outside_view_or_not_finite(p: [Vec4; 3]) -> bool {
+        culled(p.map(|p| outcode(p, &Planes { gx: 4.0, gy: 4.0 })))
     }
 
     /// Each plane on its own, points exactly on a plane, and every non-finite coordinate.

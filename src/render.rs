@@ -1,7 +1,7 @@
 //! The pipeline: model → (cull, transform, light) → clip → project → rasterize → shade.
 
 use crate::camera::Camera;
-use crate::clip::{classify, cut, ClipResult, ClipVertex, Planes, Polygon};
+use crate::clip::{classify, culled, cut, outcode, ClipResult, ClipVertex, Planes, Polygon};
 use crate::format::{Arrays, Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3, Vec4};
 use crate::raster::{facing, step_varyings, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS};
@@ -432,20 +432,27 @@ impl<'s> RowCache<'s> {
     }
 }
 
-/// Light and specular intensity reaching a vertex, 0..=65535 for 0..=1 (the varyings' 16.16
-/// scale, with 1.0 itself saturated: the pixel loop clamps light to 65535 anyway).
+/// Light (red, green, blue) and specular intensity reaching a vertex, 0..=65535 for 0..=1
+/// (the varyings' 16.16 scale, with 1.0 itself saturated: the pixel loop clamps light to
+/// 65535 anyway). Specular has 8 bits (a multiple of 257): it only ever scales an 8-bit
+/// highlight colour.
 type VertexLight = [u16; 4];
 
-/// Quantizes a light value in 0..=1 to [`VertexLight`]'s scale.
-fn quantize_light(x: f32) -> u16 {
-    (x * ONE + 0.5) as u16
+/// Quantizes light values in 0..=1 (red, green, blue, specular) to [`VertexLight`].
+fn quantize_light([r, g, b, specular]: [f32; 4]) -> VertexLight {
+    let [r, g, b] = [r, g, b].map(|x| (x * ONE + 0.5) as u16);
+    [r, g, b, (specular * 255.0 + 0.5) as u8 as u16 * 257]
 }
 
-/// A vertex's clip-space position and light, computed once a frame (see [`RowCache`]).
+/// A vertex's clip-space position, light and [`outcode`], computed once a frame (see
+/// [`RowCache`]): 24 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct TransformedVertex {
     clip: [f32; 4],
-    light: VertexLight,
+    light: [u16; 3],
+    /// [`VertexLight`]'s specular / 257.
+    specular: u8,
+    outcode: u8,
 }
 
 impl Default for TransformedVertex {
@@ -462,7 +469,12 @@ const UNKNOWN_W: u32 = 0;
 impl TransformedVertex {
     /// Not yet transformed this frame.
     pub const UNKNOWN: TransformedVertex =
-        TransformedVertex { clip: [0.0, 0.0, 0.0, f32::from_bits(UNKNOWN_W)], light: [0; 4] };
+        TransformedVertex { clip: [0.0, 0.0, 0.0, f32::from_bits(UNKNOWN_W)], light: [0; 3], specular: 0, outcode: 0 };
+
+    fn vertex_light(&self) -> VertexLight {
+        let [r, g, b] = self.light;
+        [r, g, b, self.specular as u16 * 257]
+    }
 }
 
 /// [`draw_model`] for frames drawn in bands: triangles that [`RowCache`] knows cannot touch
@@ -567,14 +579,17 @@ fn front_end<const L: usize>(
     stats: &mut Stats,
 ) -> Front {
     let idx = s.arrays.triangle(t);
-    let (clip, lights) = match vertices {
+    let (clip, codes, lights) = match vertices {
         Some(cache) => {
             let v = idx.map(|i| transformed(ctx, s, cache, i));
-            (v.map(|v| Vec4::from_array(v.clip)), Some(v.map(|v| v.light)))
+            (v.map(|v| Vec4::from_array(v.clip)), v.map(|v| v.outcode), Some(v.map(|v| v.vertex_light())))
         }
-        None => (idx.map(|i| clip_position(s, i)), None),
+        None => {
+            let clip = idx.map(|i| clip_position(s, i));
+            (clip, clip.map(|p| outcode(p, &ctx.planes)), None)
+        }
     };
-    if crate::clip::outside_view_or_not_finite(clip) {
+    if culled(codes) {
         stats.culled_frustum += 1;
         return Front::Done(TriangleRows::EMPTY);
     }
@@ -605,7 +620,9 @@ fn front_end<const L: usize>(
         known_rows = Some(rows);
     }
     let tri = vertex_varyings(ctx, s, &idx, &clip, lights, sampler);
-    match classify(&tri, &ctx.planes) {
+    // Light and specular come from 16-bit integers: only the others can be non-finite.
+    let maybe_not_finite = if ctx.opts.shading == Shading::Phong { MAX_VARYINGS } else { LIGHT };
+    match classify(&tri, codes, maybe_not_finite) {
         ClipResult::Outside => {
             stats.culled_frustum += 1;
             Front::Done(TriangleRows::EMPTY)
@@ -746,7 +763,7 @@ fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32)
     // Directional and hemispheric light need no position.
     let p = if ctx.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
     let l = ctx.vertex_lights.at(p, n);
-    [l.x, l.y, l.z, ctx.lights.specular_at(p, n, ctx.eye)].map(quantize_light)
+    quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(p, n, ctx.eye)])
 }
 
 /// Vertex `i` from the frame's cache, transformed and lit on first use.
@@ -756,7 +773,11 @@ fn transformed<const L: usize>(
     cache: &mut [TransformedVertex],
     i: u32,
 ) -> TransformedVertex {
-    let fresh = || TransformedVertex { clip: clip_position(s, i).to_array(), light: vertex_light(ctx, s, i) };
+    let fresh = || {
+        let (clip, [r, g, b, specular]) = (clip_position(s, i), vertex_light(ctx, s, i));
+        let outcode = outcode(clip, &ctx.planes);
+        TransformedVertex { clip: clip.to_array(), light: [r, g, b], specular: (specular / 257) as u8, outcode }
+    };
     match cache.get_mut(i as usize) {
         Some(v) if v.clip[3].to_bits() == UNKNOWN_W => {
             *v = fresh();
@@ -793,7 +814,7 @@ fn vertex_varyings<const L: usize>(
             }
             let centre = (p[0] + p[1] + p[2]) / 3.0;
             let l = ctx.vertex_lights.at(centre, n);
-            [[l.x, l.y, l.z, ctx.lights.specular_at(centre, n, ctx.eye)].map(quantize_light); 3]
+            [quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(centre, n, ctx.eye)]); 3]
         }
         Shading::Gouraud => gouraud.unwrap_or_else(|| idx.map(|i| vertex_light(ctx, s, i))),
     };
