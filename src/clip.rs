@@ -70,7 +70,8 @@ pub fn outcode(p: Vec4, planes: &Planes) -> u8 {
     }
     let view = [p.z + p.w, p.w - p.z, p.w + p.x, p.w - p.x, p.w + p.y, p.w - p.y];
     let outside = view.iter().enumerate().fold(0, |code, (k, &d)| code | u8::from(d < 0.0) << k);
-    let clip = planes.distances(p).iter().any(|&d| !(d >= 0.0));
+    // NaN (from overflowing products) counts as outside: cutting copes with it.
+    let clip = !planes.distances(p).iter().all(|&d| d >= 0.0);
     outside | if clip { NEEDS_CLIP } else { 0 }
 }
 
