@@ -173,6 +173,8 @@ pub struct Setup<const V: usize> {
     y1: i32,
     /// Frame row of the origin pixel centre (the bounding box's top row, unclipped by the band).
     origin_row: i32,
+    /// Rows of the bounding box below the origin row, unclipped by the band.
+    rows_below: i32,
     /// Depth at the origin pixel centre, and per pixel in x and y, 24.40.
     z_origin: i64,
     z_dx: i64,
@@ -305,6 +307,7 @@ impl<const V: usize> Setup<V> {
             y0,
             y1,
             origin_row: fy0,
+            rows_below: floor_div(max_y - 8, 16) - fy0,
             z_origin: to_fixed(z_at_origin),
             z_dx: to_fixed(gx * 16.0),
             z_dy: to_fixed(gy * 16.0),
@@ -378,7 +381,9 @@ impl<const V: usize> Setup<V> {
             let range = max(max(d1, d2), 0.0) - min(min(d1, d2), 0.0);
             range * ratio <= 4.0 * tolerance[k] as f32
         });
-        self.affine = within.then(|| Planes::new(&self.edges, self.area, &self.v0, &self.d1, &self.d2));
+        let extent = (self.x1 - self.x0, self.rows_below);
+        self.affine =
+            within.then(|| Planes::new(&self.edges, self.area, (&self.v0, &self.d1, &self.d2), extent)).flatten();
         self.tolerance = tolerance.map(|t| 4.0 * t as f32);
     }
 
@@ -593,45 +598,61 @@ pub trait SpanSink<const V: usize> {
     fn span(&mut self, span: &Span<V>);
 }
 
-/// Affine varyings: `v(x, y) = origin + gx·x + gy·y` in pixels from the origin pixel centre.
+/// Affine varyings: `v(x, y) = base + (origin + gx·x + gy·y) / 256` in pixels from the origin
+/// pixel centre, in integers (24.8 varying units: rounding adds under 2^-8 units per pixel of
+/// distance, far below the 2^-16 of a texel or of full light that a unit is). Integer
+/// arithmetic costs the same on every target, FPU or not, and gives the same value for a pixel
+/// whichever band draws it.
 #[derive(Clone, Copy, Debug)]
 struct Planes<const V: usize> {
     /// Vertex 0's values; the planes below are relative to them.
     base: [i32; V],
-    origin: [f32; V],
-    gx: [f32; V],
-    gy: [f32; V],
-    /// `gx` rounded: the per-pixel step along a row.
+    origin: [i32; V],
+    gx: [i32; V],
+    gy: [i32; V],
+    /// `gx` rounded to whole units: the per-pixel step along a row.
     step: [i32; V],
 }
 
 impl<const V: usize> Planes<V> {
     /// The planes through the three vertices' values: the weight of vertex 1 is `E_1 / area`
-    /// and of vertex 2 is `E_2 / area` (screen-space barycentrics), in f32 (the same bits on
-    /// every target).
-    fn new(edges: &[Edge; 3], area: i64, v0: &[i32; V], d1: &[f32; V], d2: &[f32; V]) -> Self {
+    /// and of vertex 2 is `E_2 / area` (screen-space barycentrics), computed in f32 (the same
+    /// bits on every target). `None` when `origin + gx·x + gy·y` could leave i32 somewhere in
+    /// `0..=width` by `0..=height` pixels from the origin (needle triangles with huge
+    /// gradients): those keep per-run exact values.
+    fn new(
+        edges: &[Edge; 3],
+        area: i64,
+        (v0, d1, d2): (&[i32; V], &[f32; V], &[f32; V]),
+        (width, height): (i32, i32),
+    ) -> Option<Self> {
         let inv_area = 1.0 / area as f32;
         let per_pixel = |c: i32| (c * 16) as f32 * inv_area;
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), edges[1].c as f32 * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), edges[2].c as f32 * inv_area);
-        let mut p = Planes { base: *v0, origin: [0.0; V], gx: [0.0; V], gy: [0.0; V], step: [0; V] };
+        let (w, h) = (width.max(0) as f32, height.max(0) as f32);
+        let mut p = Planes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
         for k in 0..V {
-            let (d1, d2) = (d1[k], d2[k]);
+            let (d1, d2) = (d1[k] * 256.0, d2[k] * 256.0);
             // Relative to vertex 0's value, added back in integers: large values (e.g. world
             // positions) keep their precision.
-            p.origin[k] = d1 * b1o + d2 * b2o;
-            p.gx[k] = d1 * b1x + d2 * b2x;
-            p.gy[k] = d1 * b1y + d2 * b2y;
-            p.step[k] = crate::math::floor_to_i32(p.gx[k] + 0.5);
+            let (o, gx, gy) = (d1 * b1o + d2 * b2o, d1 * b1x + d2 * b2x, d1 * b1y + d2 * b2y);
+            // Within 2^30 with f32's rounding (a relative 2^-23) to spare; NaN fails too.
+            let fits = o.abs() + gx.abs() * w + gy.abs() * h < (1u32 << 30) as f32;
+            if !fits {
+                return None;
+            }
+            // Truncating: under one unit of 2^-8 off.
+            let (o, gx, gy) = (o as i32, gx as i32, gy as i32);
+            (p.origin[k], p.gx[k], p.gy[k], p.step[k]) = (o, gx, gy, (gx + 128) >> 8);
         }
-        p
+        Some(p)
     }
 
     /// Varyings at column `x`, row `y` from the origin pixel, and the step per pixel.
     #[inline(always)]
     fn at(&self, x: i32, y: i32) -> ([i32; V], [i32; V]) {
-        let (x, y) = (x as f32, y as f32);
-        let v = |k: usize| self.base[k].wrapping_add((self.origin[k] + self.gx[k] * x + self.gy[k] * y) as i32);
+        let v = |k: usize| self.base[k].wrapping_add((self.origin[k] + self.gx[k] * x + self.gy[k] * y) >> 8);
         (core::array::from_fn(v), self.step)
     }
 }
