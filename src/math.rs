@@ -46,17 +46,79 @@ pub fn powf(x: f32, y: f32) -> f32 {
     libm::powf(x, y)
 }
 
+/// `x as i32`: truncated towards zero, saturating, NaN gives 0.
+///
+/// On targets without an FPU (`eabi` Arm, RISC-V without `f`) in integer code from the bits
+/// ([`split_float`], about 15 instructions), as the soft-float library's conversion and the
+/// comparisons around it cost about 100; with an FPU, the hardware conversion.
+#[inline(always)]
+#[must_use]
+pub fn to_i32(x: f32) -> i32 {
+    #[cfg(soft_float)]
+    {
+        split_float(x).0
+    }
+    #[cfg(not(soft_float))]
+    {
+        x as i32
+    }
+}
+
 /// `floor(x) as i32` (saturating; NaN gives 0) without a float `floor`, which Cortex-M4F's
-/// FPU lacks: truncate, then step down where truncation went up.
+/// FPU lacks: truncate, then step down where truncation went up (from the bits without an
+/// FPU, see [`to_i32`]).
 #[inline]
 #[must_use]
 pub fn floor_to_i32(x: f32) -> i32 {
-    let t = x as i32;
-    if (t as f32) > x {
-        t.saturating_sub(1)
-    } else {
-        t
+    #[cfg(soft_float)]
+    {
+        let (t, cut) = split_float(x);
+        if cut && x.to_bits() >> 31 != 0 {
+            t - 1
+        } else {
+            t
+        }
     }
+    #[cfg(not(soft_float))]
+    {
+        let t = x as i32;
+        if (t as f32) > x {
+            t.saturating_sub(1)
+        } else {
+            t
+        }
+    }
+}
+
+/// `(x as i32, whether a nonzero fraction was cut off)` from the bits of `x` alone: the
+/// integer conversion of FPU-less targets (see [`to_i32`]). Saturates like `as`; NaN gives
+/// `(0, false)`, and so do values cut off at saturation.
+#[cfg_attr(not(soft_float), allow(dead_code))]
+#[inline(always)]
+fn split_float(x: f32) -> (i32, bool) {
+    let b = x.to_bits();
+    let exp = ((b >> 23) & 0xff) as i32 - 127;
+    let negative = b >> 31 != 0;
+    if exp < 0 {
+        // |x| < 1: only zero has nothing to cut.
+        return (0, b << 1 != 0);
+    }
+    if exp >= 31 {
+        let nan = exp == 128 && b << 9 != 0;
+        return (
+            if nan {
+                0
+            } else if negative {
+                i32::MIN
+            } else {
+                i32::MAX
+            },
+            false,
+        );
+    }
+    let m = (b & 0x7f_ffff) | 0x80_0000;
+    let (magnitude, cut) = if exp >= 23 { (m << (exp - 23), false) } else { (m >> (23 - exp), m << (9 + exp) != 0) };
+    (if negative { (magnitude as i32).wrapping_neg() } else { magnitude as i32 }, cut)
 }
 
 /// The largest factor by which `m` stretches any direction's length, bounded by its largest
@@ -192,6 +254,36 @@ mod tests {
             assert_eq!(min(a, b).to_bits(), a.min(b).to_bits(), "min({a}, {b})");
         }
         assert_eq!([clamp01(-1.0), clamp01(0.25), clamp01(7.0), clamp01(f32::NAN)], [0.0, 0.25, 1.0, 0.0]);
+    }
+
+    /// The integer conversion of FPU-less targets equals `as i32` and floor for every special
+    /// value, every power of two and its neighbours, and a million pseudo-random bit patterns.
+    #[test]
+    fn integer_float_conversion_matches_the_hardware_one() {
+        let mut values =
+            std::vec![0.0f32, -0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5, f32::MIN_POSITIVE, -f32::MIN_POSITIVE];
+        values.extend([f32::MAX, f32::MIN, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN, 2147483520.0]);
+        values.extend([-2147483648.0, -2147483904.0, 2147483648.0, 8388607.5, -8388607.5, 16777215.0, -16777217.0]);
+        for e in -30..40 {
+            let p = 2f32.powi(e);
+            for x in [p, -p] {
+                values.extend([x, f32::from_bits(x.to_bits() + 1), f32::from_bits(x.to_bits() - 1)]);
+            }
+        }
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        values.extend((0..1_000_000).map(|_| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            f32::from_bits(state as u32)
+        }));
+        for x in values {
+            let (t, cut) = split_float(x);
+            assert_eq!(t, x as i32, "{x:e} ({:#x})", x.to_bits());
+            let floor = if cut && x < 0.0 { t - 1 } else { t };
+            let want = if x.is_nan() { 0 } else { libm::floorf(x).clamp(i32::MIN as f32, i32::MAX as f32) as i32 };
+            assert_eq!(floor, want, "floor {x:e} ({:#x})", x.to_bits());
+        }
     }
 
     #[test]

@@ -26,7 +26,7 @@
 //! Every value here is a function of the triangle and the pixel only, never of the band being
 //! drawn, so a frame drawn in bands is bit-identical to the frame drawn whole.
 
-use crate::math::{max, min};
+use crate::math::{max, min, to_i32};
 
 /// The most varyings a vertex carries.
 pub const MAX_VARYINGS: usize = 8;
@@ -346,7 +346,7 @@ impl<const V: usize> Setup<V> {
         let inv = 1.0 / sum;
         let (b1, b2) = (n1 * inv, n2 * inv);
         for ((o, d1), d2) in out.iter_mut().zip(self.d1).zip(self.d2) {
-            *o = o.wrapping_add((d1 * b1 + d2 * b2) as i32);
+            *o = o.wrapping_add(to_i32(d1 * b1 + d2 * b2));
         }
         (out, sum)
     }
@@ -643,7 +643,7 @@ impl<const V: usize> Planes<V> {
                 return None;
             }
             // Truncating: under one unit of 2^-8 off.
-            let (o, gx, gy) = (o as i32, gx as i32, gy as i32);
+            let (o, gx, gy) = (to_i32(o), to_i32(gx), to_i32(gy));
             (p.origin[k], p.gx[k], p.gy[k], p.step[k]) = (o, gx, gy, (gx + 128) >> 8);
         }
         Some(p)

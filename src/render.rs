@@ -440,8 +440,9 @@ type VertexLight = [u16; 4];
 
 /// Quantizes light values in 0..=1 (red, green, blue, specular) to [`VertexLight`].
 fn quantize_light([r, g, b, specular]: [f32; 4]) -> VertexLight {
-    let [r, g, b] = [r, g, b].map(|x| (x * ONE + 0.5) as u16);
-    [r, g, b, (specular * 255.0 + 0.5) as u8 as u16 * 257]
+    // Saturating, as `as u16` would, in integer code without an FPU.
+    let [r, g, b] = [r, g, b].map(|x| crate::math::to_i32(x * ONE + 0.5).clamp(0, 0xffff) as u16);
+    [r, g, b, crate::math::to_i32(specular * 255.0 + 0.5).clamp(0, 255) as u16 * 257]
 }
 
 /// A vertex's clip-space position, light and [`outcode`], computed once a frame (see
@@ -854,7 +855,7 @@ fn with_depth_and_varyings(v: &ClipVertex, xy: ScreenVertex) -> ScreenVertex {
     ScreenVertex {
         z: ((v.pos.z * xy.inv_w + 1.0) * 0.5).clamp(0.0, 1.0),
         // Saturating casts: huge UVs clamp instead of wrapping.
-        varyings: v.varyings.map(|a| a as i32),
+        varyings: v.varyings.map(crate::math::to_i32),
         ..xy
     }
 }

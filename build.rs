@@ -1,0 +1,14 @@
+//! Sets `cfg(soft_float)` on targets without a floating-point unit (Arm `eabi` such as
+//! thumbv6m and thumbv7m, RISC-V without the `f` extension), where `math` converts floats to
+//! integers in integer code instead of calling the soft-float library (see `math::to_i32`).
+
+fn main() {
+    println!("cargo::rustc-check-cfg=cfg(soft_float)");
+    let var = |name: &str| std::env::var(name).unwrap_or_default();
+    let (arch, abi, features) =
+        (var("CARGO_CFG_TARGET_ARCH"), var("CARGO_CFG_TARGET_ABI"), var("CARGO_CFG_TARGET_FEATURE"));
+    let has_f = features.split(',').any(|f| f == "f");
+    if (arch == "arm" && abi == "eabi") || (arch.starts_with("riscv") && !has_f) {
+        println!("cargo::rustc-cfg=soft_float");
+    }
+}
