@@ -3,10 +3,13 @@
 # mps2-an386) and for thumbv6m (thumbv6m-none-eabi, run on mps2-an385's Cortex-M3), renders the
 # reference Suzanne frame on each, and checks the result:
 #   - QEMU exits 0 and the firmware printed its JSON statistics line (shown here);
-#   - the frame covers 14,457 pixels (the reference coverage) and the frame file is 240x240x2 bytes;
-#   - the two targets' frames are identical byte for byte.
+#   - the frame covers the expected pixels and the frame file is 240x240x2 bytes: 14,457 (the
+#     reference coverage) on the M4F; 14,456 on thumbv6m, whose firmware draws with 16-bit
+#     positions and the fixed-point vertex path (RenderOptions::fixed_vertices), within 1/16
+#     pixel of f32, which moves one edge pixel.
 # Frames: out/qemu-frame-m4.rgb565 and out/qemu-frame-m0.rgb565 (little-endian RGB565, 240x240,
-# row-major, no header), for the host-side comparison in tests/.
+# row-major, no header): tests/qemu_frame.rs checks each is bit-identical to the host's
+# rendering with the same model and options.
 #
 # Needs: rustup targets thumbv7em-none-eabihf and thumbv6m-none-eabi, qemu-system-arm.
 # Exit status: 0 when every check passed, 1 otherwise.
@@ -15,7 +18,6 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 fw="$root/examples/qemu"
 out="$root/out"
-expected_covered=14457
 frame_bytes=$((240 * 240 * 2))
 
 if ! command -v qemu-system-arm >/dev/null; then
@@ -24,15 +26,15 @@ if ! command -v qemu-system-arm >/dev/null; then
 fi
 mkdir -p "$out"
 
-# target  machine  cpu  suffix
+# target  machine  cpu  suffix  covered pixels
 configs=(
-    "thumbv7em-none-eabihf mps2-an386 cortex-m4 m4"
-    "thumbv6m-none-eabi mps2-an385 cortex-m3 m0"
+    "thumbv7em-none-eabihf mps2-an386 cortex-m4 m4 14457"
+    "thumbv6m-none-eabi mps2-an385 cortex-m3 m0 14456"
 )
 
 failed=0
 for config in "${configs[@]}"; do
-    read -r target machine cpu suffix <<<"$config"
+    read -r target machine cpu suffix expected_covered <<<"$config"
     echo "== $target on $machine ($cpu)"
     (cd "$fw" && cargo build --release --quiet --target "$target")
     elf="$fw/target/$target/release/soft3d-qemu"
@@ -72,17 +74,7 @@ for config in "${configs[@]}"; do
     fi
 done
 
-m4="$out/qemu-frame-m4.rgb565"
-m0="$out/qemu-frame-m0.rgb565"
-if [ -f "$m4" ] && [ -f "$m0" ]; then
-    if cmp -s "$m4" "$m0"; then
-        echo "frames identical on both targets"
-    else
-        echo "FAIL: the thumbv7em and thumbv6m frames differ ($(cmp -l "$m4" "$m0" | wc -l) bytes)" >&2
-        failed=1
-    fi
-fi
-echo "frames: $m4 $m0"
+echo "frames: $out/qemu-frame-m4.rgb565 $out/qemu-frame-m0.rgb565"
 if [ "$failed" -ne 0 ]; then
     echo "qemu-check: FAILED" >&2
     exit 1

@@ -1133,6 +1133,38 @@ impl Arrays<'_> {
         }
     }
 
+    /// Vertex `i`'s stored position as integers within ±2^15, for
+    /// [`FixedTransform`](crate::math::FixedTransform): stored = `offset + q·step` with
+    /// `(offset, step)` from [`Arrays::int_position_frame`]. Float positions are mapped into the
+    /// bounding sphere `sphere` (clamped to it).
+    #[inline]
+    #[must_use]
+    pub fn position_int(&self, i: u32, sphere: (Vec3, f32)) -> [i32; 3] {
+        match self.positions {
+            Positions::F32(p) => {
+                let v = p.get(i as usize).map_or(Vec3::ZERO, |r| vec3_at(r, 0));
+                let (offset, step) = self.int_position_frame(sphere);
+                let k = 1.0 / step;
+                [v.x - offset.x, v.y - offset.y, v.z - offset.z]
+                    .map(|c| crate::math::to_i32(c * k + 0.5).clamp(-(1 << 15), 1 << 15))
+            }
+            Positions::Quantized(p) => p
+                .get(i as usize)
+                .map_or([0; 3], |r| [u16_at(r, 0), u16_at(r, 2), u16_at(r, 4)].map(|c| c as i32 - 32768)),
+        }
+    }
+
+    /// `(offset, step)` of [`Arrays::position_int`]: quantized positions are shifted by 2^15;
+    /// float positions are centred on the bounding sphere `(centre, radius)` and scaled so that
+    /// its radius is 2^15 - 1.
+    #[must_use]
+    pub fn int_position_frame(&self, (centre, radius): (Vec3, f32)) -> (Vec3, f32) {
+        match self.positions {
+            Positions::F32(_) => (centre, crate::math::max(radius, f32::MIN_POSITIVE) / 32767.0),
+            Positions::Quantized(_) => (Vec3::splat(32768.0), 1.0),
+        }
+    }
+
     /// See [`Mesh::normal_q`].
     #[inline]
     #[must_use]

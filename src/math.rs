@@ -90,6 +90,139 @@ pub fn floor_to_i32(x: f32) -> i32 {
     }
 }
 
+/// `a · q` exactly, for `|a| < 2^30` and `|q| <= 2^15`: two 32-bit products on FPU-less
+/// targets (whose 64-bit multiply is a library call), one widening multiply elsewhere.
+#[inline(always)]
+#[must_use]
+pub fn mul_wide(a: i32, q: i32) -> i64 {
+    debug_assert!(a.unsigned_abs() < 1 << 30 && q.unsigned_abs() <= 1 << 15);
+    #[cfg(soft_float)]
+    {
+        // |a >> 16| < 2^14 and (a & 0xffff) < 2^16: both products fit in i32.
+        (((a >> 16) * q) as i64) * 65536 + ((a & 0xffff) * q) as i64
+    }
+    #[cfg(not(soft_float))]
+    {
+        a as i64 * q as i64
+    }
+}
+
+/// `x · 2^e` for `|e| <= 120`, exact unless the result leaves f32's normal range.
+#[inline]
+#[must_use]
+pub fn scale_by_power_of_two(x: f32, e: i32) -> f32 {
+    // Two factors keep each one a normal float.
+    let pow2 = |k: i32| f32::from_bits(((127 + k) as u32) << 23);
+    x * pow2(e / 2) * pow2(e - e / 2)
+}
+
+/// `v as f32 · 2^-e` (`v as f32` rounds to nearest, ties to even), for `|e| <= 120`.
+///
+/// Without an FPU, `v as f32` is built from the bits in integer code and the scale is added
+/// to the exponent, where the soft-float library would take a conversion and two multiplies.
+#[inline]
+#[must_use]
+pub fn i64_to_f32_scaled(v: i64, e: i32) -> f32 {
+    #[cfg(soft_float)]
+    {
+        soft_i64_to_f32_scaled(v, e)
+    }
+    #[cfg(not(soft_float))]
+    {
+        scale_by_power_of_two(v as f32, -e)
+    }
+}
+
+/// [`i64_to_f32_scaled`] in integer code.
+#[cfg_attr(not(soft_float), allow(dead_code))]
+fn soft_i64_to_f32_scaled(v: i64, e: i32) -> f32 {
+    let f = i64_to_f32(v);
+    let exp = ((f.to_bits() >> 23) & 0xff) as i32;
+    if exp > 0 && (1..255).contains(&(exp - e)) {
+        return f32::from_bits((f.to_bits() & !(0xff << 23)) | (((exp - e) as u32) << 23));
+    }
+    scale_by_power_of_two(f, -e)
+}
+
+/// `v as f32` in integer code: the top 24 significant bits, rounded to nearest, ties to even.
+#[cfg_attr(not(soft_float), allow(dead_code))]
+fn i64_to_f32(v: i64) -> f32 {
+    if v == 0 {
+        return 0.0;
+    }
+    let sign = if v < 0 { 1u32 << 31 } else { 0 };
+    let m = v.unsigned_abs();
+    let top = 63 - m.leading_zeros(); // position of the leading 1
+    let (mut mantissa, mut exp) = if top <= 23 {
+        ((m << (23 - top)) as u32, top)
+    } else {
+        let shift = top - 23;
+        let (kept, rest, half) = ((m >> shift) as u32, m & ((1u64 << shift) - 1), 1u64 << (shift - 1));
+        (kept + u32::from(rest > half || (rest == half && kept & 1 == 1)), top)
+    };
+    if mantissa == 1 << 24 {
+        (mantissa, exp) = (mantissa >> 1, exp + 1);
+    }
+    f32::from_bits(sign | ((exp + 127) << 23) | (mantissa & 0x7f_ffff))
+}
+
+/// A model-to-clip transform evaluated in integers: the fixed-point vertex path of targets
+/// without an FPU (see [`RenderOptions::fixed_vertices`](crate::RenderOptions)).
+///
+/// Positions come as integers `q` (`|q| <= 2^15`, see [`format::Arrays::position_int`](
+/// crate::format::Arrays::position_int)). Each output row `i` is `(Σ a_ij·q_j + b_i) / 2^e_i`
+/// with `a_ij` rounded to integers below 2^30 at the row's own power-of-two scale, so the
+/// coefficients keep 29 or more significant bits whatever the scene's units; the sums are exact
+/// in i64 and rounded to f32 once at the end.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FixedTransform {
+    a: [[i32; 3]; 4],
+    b: [i64; 4],
+    e: [i32; 4],
+}
+
+impl FixedTransform {
+    /// `m · (offset + q·step, 1)` for integer `q`. `None` when a coefficient is not finite or
+    /// the scales leave the representable range.
+    #[must_use]
+    pub fn new(m: &Mat4, offset: Vec3, step: f32) -> Option<Self> {
+        let mut t = FixedTransform { a: [[0; 3]; 4], b: [0; 4], e: [0; 4] };
+        for i in 0..4 {
+            let row = m.row(i);
+            let a = [row.x * step, row.y * step, row.z * step];
+            let b = row.w + row.truncate().dot(offset);
+            let largest = max(max(a[0].abs(), a[1].abs()), max(a[2].abs(), f32::MIN_POSITIVE));
+            if !(largest.is_finite() && b.is_finite()) {
+                return None;
+            }
+            // largest < 2^(k+1) with k its binary exponent: scaled by 2^(29-k) it is below 2^30.
+            let e = 29 - (((largest.to_bits() >> 23) & 0xff) as i32 - 127);
+            if e.abs() > 120 {
+                return None;
+            }
+            let b = scale_by_power_of_two(b, e);
+            let fits = b.abs() < (1u64 << 61) as f32;
+            if !fits {
+                return None;
+            }
+            t.a[i] = a.map(|c| to_i32(scale_by_power_of_two(c, e)));
+            (t.b[i], t.e[i]) = (b as i64, e);
+        }
+        Some(t)
+    }
+
+    /// The clip-space position of the point with integer coordinates `q`.
+    #[must_use]
+    pub fn apply(&self, q: [i32; 3]) -> Vec4 {
+        let row = |i: usize| {
+            let sum =
+                self.b[i] + mul_wide(self.a[i][0], q[0]) + mul_wide(self.a[i][1], q[1]) + mul_wide(self.a[i][2], q[2]);
+            i64_to_f32_scaled(sum, self.e[i])
+        };
+        Vec4::new(row(0), row(1), row(2), row(3))
+    }
+}
+
 /// `(x as i32, whether a nonzero fraction was cut off)` from the bits of `x` alone: the
 /// integer conversion of FPU-less targets (see [`to_i32`]). Saturates like `as`; NaN gives
 /// `(0, false)`, and so do values cut off at saturation.
@@ -254,6 +387,30 @@ mod tests {
             assert_eq!(min(a, b).to_bits(), a.min(b).to_bits(), "min({a}, {b})");
         }
         assert_eq!([clamp01(-1.0), clamp01(0.25), clamp01(7.0), clamp01(f32::NAN)], [0.0, 0.25, 1.0, 0.0]);
+    }
+
+    /// The integer `i64 as f32` of FPU-less targets rounds like the hardware one, and scaling
+    /// by the exponent gives what multiplying does.
+    #[test]
+    fn integer_i64_to_f32_matches_as() {
+        let mut values = std::vec![0i64, 1, -1, i64::MAX, i64::MIN, (1 << 24) + 1, (1 << 25) + 3, -(1 << 25) - 1];
+        for k in 0..63 {
+            values.extend([1i64 << k, (1i64 << k) - 1, (1i64 << k) + 1, -(1i64 << k), (3i64 << k) >> 1]);
+        }
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        values.extend((0..1_000_000).map(|k| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state as i64) >> (k % 64)
+        }));
+        for v in values {
+            assert_eq!(i64_to_f32(v).to_bits(), (v as f32).to_bits(), "{v}");
+            for e in [-40, -3, 0, 7, 60, 100, 120] {
+                let want = scale_by_power_of_two(v as f32, -e);
+                assert_eq!(soft_i64_to_f32_scaled(v, e).to_bits(), want.to_bits(), "{v} / 2^{e}");
+            }
+        }
     }
 
     /// The integer conversion of FPU-less targets equals `as i32` and floor for every special

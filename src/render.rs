@@ -3,9 +3,9 @@
 use crate::camera::Camera;
 use crate::clip::{classify, culled, cut, outcode, ClipResult, ClipVertex, Planes, Polygon};
 use crate::format::{Arrays, Material, Mesh, Model};
-use crate::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3, Vec4};
+use crate::math::{normal_matrix, normalize_or_zero, FixedTransform, Mat3, Mat4, Vec3, Vec4};
 use crate::raster::{facing, step_varyings, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS};
-use crate::shade::{modulate, Filter, Lights, PixelLights, PreparedLights, Repeat565, Sampler};
+use crate::shade::{modulate, Filter, FixedLights, Lights, PixelLights, PreparedLights, Repeat565, Sampler};
 use crate::target::{Band, DepthBuffer, DepthCell, FrameColor, NoDepth, GUARD_HALF_EXTENT};
 
 /// How surfaces are lit.
@@ -54,6 +54,10 @@ pub struct RenderOptions {
     pub textures: bool,
     /// Ordered (4x4 Bayer) dithering when the target has fewer than 8 bits per channel.
     pub dither: bool,
+    /// Vertices transformed in integers ([`FixedTransform`](crate::math::FixedTransform))
+    /// instead of f32: for targets without an FPU (thumbv6m, thumbv7m), where each float
+    /// operation is a library call. Within 1/16 pixel of the f32 transform (see the tests).
+    pub fixed_vertices: bool,
     /// Colour of wireframe edges in [`Mode::SolidWireframe`] (and of [`Mode::Wireframe`] and
     /// [`Mode::Points`] when `Some`; `None` uses the material colour there).
     pub wire_color: Option<[u8; 3]>,
@@ -68,6 +72,7 @@ impl Default for RenderOptions {
             subspan: 1,
             textures: true,
             dither: false,
+            fixed_vertices: false,
             wire_color: None,
         }
     }
@@ -297,20 +302,38 @@ struct DrawSetup<'a> {
     uv: ([f32; 2], [f32; 2]),
     mesh: Mesh<'a>,
     arrays: Arrays<'a>,
+    /// The integer transform and the bounding sphere it maps float positions into, with
+    /// [`RenderOptions::fixed_vertices`].
+    fixed: Option<(FixedTransform, (Vec3, f32))>,
+    /// Gouraud vertex light in integers, with [`RenderOptions::fixed_vertices`] when the lights
+    /// allow it (see [`PreparedLights::fixed`]).
+    fixed_lights: Option<FixedLights<MAX_FIXED_LIGHTS>>,
 }
+
+/// The most lights the fixed-point vertex path evaluates in integers (more: in f32).
+const MAX_FIXED_LIGHTS: usize = 8;
 
 impl<'a> DrawSetup<'a> {
     fn new<C, D, const L: usize>(_band: &Band<'_, C, D>, ctx: &Context<'_, L>, mesh: Mesh<'a>, world: Mat4) -> Self {
         let model_q = world * mesh.dequantize();
         let normals = normal_matrix(&world);
+        let (mvp, arrays, sphere) = (ctx.vp * model_q, mesh.arrays(), mesh.bounding_sphere());
+        let fixed = ctx.opts.fixed_vertices.then_some(()).and_then(|()| {
+            let (offset, step) = arrays.int_position_frame(sphere);
+            Some((FixedTransform::new(&mvp, offset, step)?, sphere))
+        });
+        let rotation = crate::math::is_rotation(&normals);
+        let integer_light = ctx.opts.fixed_vertices && rotation && !ctx.lit_by_position;
         DrawSetup {
-            mvp: ctx.vp * model_q,
+            mvp,
+            fixed,
+            fixed_lights: integer_light.then(|| ctx.vertex_lights.fixed(&normals)).flatten(),
             model_q,
             normals,
-            rotation: crate::math::is_rotation(&normals),
+            rotation,
             flip: Mat3::from_mat4(world).determinant() < 0.0,
             uv: mesh.uv_transform(),
-            arrays: mesh.arrays(),
+            arrays,
             mesh,
         }
     }
@@ -737,7 +760,10 @@ fn count_reject(r: Reject, stats: &mut Stats) {
 
 /// Vertex `i` in clip space.
 fn clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
-    s.mvp * s.arrays.position_stored(i).extend(1.0)
+    match &s.fixed {
+        Some((t, sphere)) => t.apply(s.arrays.position_int(i, *sphere)),
+        None => s.mvp * s.arrays.position_stored(i).extend(1.0),
+    }
 }
 
 /// Vertex `i` in world space.
@@ -759,6 +785,10 @@ fn world_normal(s: &DrawSetup<'_>, i: u32) -> Vec3 {
 fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
     if ctx.opts.shading != Shading::Gouraud {
         return [0; 4];
+    }
+    if let Some(lights) = &s.fixed_lights {
+        let [r, g, b] = lights.at(s.arrays.normal_q(i));
+        return [r, g, b, 0];
     }
     let n = world_normal(s, i);
     // Directional and hemispheric light need no position.

@@ -6,16 +6,21 @@ use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
 use soft3d::format::{emit, EmitOptions};
 use soft3d::{reference, Band, Model, Stats};
 
-/// The firmware's conversion: UV origin at the top, 128-texel texture, exact positions.
-fn firmware_model_bytes(max_texture: Option<u32>) -> Vec<u8> {
+/// The firmware's conversion: UV origin at the top, 128-texel texture, exact (f32) positions
+/// or (`float_positions` false, for the fixed-point vertex path) 16-bit ones.
+fn firmware_model_bytes(max_texture: Option<u32>, float_positions: bool) -> Vec<u8> {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/suzanne/monkey.babylon");
     let opts = ConvertOptions { uv_origin: UvOrigin::Top, max_texture, ..Default::default() };
     let (scene, _) = read_babylon_file(path.as_ref(), &opts).unwrap();
-    emit(&scene, &EmitOptions { float_positions: true, ..Default::default() }).unwrap()
+    emit(&scene, &EmitOptions { float_positions, ..Default::default() }).unwrap()
 }
 
 /// Renders the reference frame in bands of `rows`: RGB565 pixels, depth, stats.
 fn render(model: &Model<'_>, rows: u16) -> (Vec<Rgb565>, Vec<u16>, Stats) {
+    render_with(model, rows, &reference::options())
+}
+
+fn render_with(model: &Model<'_>, rows: u16, opts: &soft3d::RenderOptions) -> (Vec<Rgb565>, Vec<u16>, Stats) {
     let (w, h) = (reference::WIDTH as usize, reference::HEIGHT as usize);
     let mut color = vec![Rgb565::BLACK; w * h];
     let mut depth = vec![0u16; w * h];
@@ -25,14 +30,14 @@ fn render(model: &Model<'_>, rows: u16) -> (Vec<Rgb565>, Vec<u16>, Stats) {
     for (k, (c, z)) in color.chunks_mut(rows as usize * w).zip(depth.chunks_mut(rows as usize * w)).enumerate() {
         let mut band = Band::new(c, z, reference::WIDTH, reference::HEIGHT, k as u16 * rows).unwrap();
         band.clear(Rgb565::BLACK);
-        stats += soft3d::draw_model(&mut band, model, reference::transform(), &camera, &lights, &reference::options());
+        stats += soft3d::draw_model(&mut band, model, reference::transform(), &camera, &lights, opts);
     }
     (color, depth, stats)
 }
 
 #[test]
 fn reference_frame_covers_the_reference_pixel_count() {
-    let bytes = firmware_model_bytes(None);
+    let bytes = firmware_model_bytes(None, true);
     let model = Model::parse(&bytes).unwrap();
     let (_, depth, stats) = render(&model, reference::HEIGHT);
     let covered = depth.iter().filter(|&&d| d != u16::MAX).count();
@@ -42,13 +47,16 @@ fn reference_frame_covers_the_reference_pixel_count() {
 
 #[test]
 fn qemu_frames_equal_the_host_frame() {
-    let bytes = firmware_model_bytes(Some(128));
-    let model = Model::parse(&bytes).unwrap();
-    let (host, _, _) = render(&model, 30);
-    let host_bytes: Vec<u8> = host.iter().flat_map(|c| RawU16::from(*c).into_inner().to_le_bytes()).collect();
     let required = std::env::var_os("SOFT3D_REQUIRE_QEMU").is_some();
     let mut compared = 0;
-    for name in ["qemu-frame-m4.rgb565", "qemu-frame-m0.rgb565"] {
+    // The M4F firmware draws f32 positions with f32 vertices; the thumbv6m one 16-bit positions
+    // with the fixed-point vertex path (its build.rs and main.rs).
+    for (name, fpu) in [("qemu-frame-m4.rgb565", true), ("qemu-frame-m0.rgb565", false)] {
+        let bytes = firmware_model_bytes(Some(128), fpu);
+        let model = Model::parse(&bytes).unwrap();
+        let opts = soft3d::RenderOptions { fixed_vertices: !fpu, ..reference::options() };
+        let (host, _, _) = render_with(&model, 30, &opts);
+        let host_bytes: Vec<u8> = host.iter().flat_map(|c| RawU16::from(*c).into_inner().to_le_bytes()).collect();
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("out").join(name);
         let Ok(qemu) = std::fs::read(&path) else {
             assert!(!required, "{} missing: run scripts/qemu-check.sh first", path.display());
@@ -60,5 +68,5 @@ fn qemu_frames_equal_the_host_frame() {
         assert_eq!(differing, 0, "{name}: {differing} pixels differ from the host rendering");
         compared += 1;
     }
-    println!("{compared} QEMU frame(s) bit-identical to the host frame");
+    println!("{compared} QEMU frame(s) bit-identical to the host's");
 }

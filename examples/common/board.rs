@@ -99,7 +99,8 @@ impl Scene {
             model,
             camera: reference::camera(WIDTH, HEIGHT),
             lights: reference::lights(),
-            opts: reference::options(),
+            // The RP2040's Cortex-M0+ has no FPU: vertices in integers (RenderOptions).
+            opts: RenderOptions { fixed_vertices: cfg!(target_abi = "eabi"), ..reference::options() },
             background: Rgb565Be::from_rgb888([0, 0, 0]),
         }
     }

@@ -17,5 +17,8 @@ fn main() {
     // The reference frame's model: exact f32 positions (the 14,457-pixel coverage), v = 0 at
     // the top of the image (the 2013 tutorial's Suzanne), texture downscaled for flash.
     let opts = ConvertOptions { uv_origin: UvOrigin::Top, max_texture: Some(MAX_TEXTURE), ..Default::default() };
-    firmware_build(&[], &opts, &EmitOptions { float_positions: true, ..Default::default() });
+    // FPU-less targets (thumbv6m) draw with the fixed-point vertex path, which reads 16-bit
+    // quantized positions as integers directly.
+    let fpu = std::env::var("CARGO_CFG_TARGET_ABI").is_ok_and(|abi| abi == "eabihf");
+    firmware_build(&[], &opts, &EmitOptions { float_positions: fpu, ..Default::default() });
 }

@@ -165,6 +165,9 @@ struct RenderArgs {
     /// Blinn-Phong specular highlights (per vertex) with this exponent, e.g. 64.
     #[arg(long)]
     specular: Option<f32>,
+    /// Transform vertices in integers, as FPU-less microcontrollers do (within 1/16 pixel).
+    #[arg(long)]
+    fixed_vertices: bool,
     /// Ordered dithering when the pixel format has fewer than 8 bits per channel.
     #[arg(long)]
     dither: bool,
@@ -417,6 +420,7 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         subspan: args.subspan.max(1),
         textures: true,
         dither: args.dither,
+        fixed_vertices: args.fixed_vertices,
         wire_color: matches!(args.mode, ModeArg::SolidWire).then_some([255, 255, 0]),
     };
     if args.bands == 0 || args.bands > height {

@@ -32,7 +32,7 @@ use semihosting::fs::File;
 use semihosting::io::Write as _;
 use semihosting::{eprintln, println, process};
 use serde::Serialize;
-use soft3d::{reference, Band, Model, RowCache, Stats, TransformedVertex, TriangleRows};
+use soft3d::{reference, Band, Model, RenderOptions, RowCache, Stats, TransformedVertex, TriangleRows};
 
 /// The reference scene, converted at build time (see build.rs).
 static SUZANNE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
@@ -110,7 +110,8 @@ fn run() -> Result<(), &'static str> {
     // The reference frame, shared with the host test that compares our output.
     let camera = reference::camera(WIDTH, HEIGHT);
     let lights = reference::lights();
-    let opts = reference::options();
+    // FPU-less builds (thumbv6m) transform vertices in integers (see RenderOptions).
+    let opts = RenderOptions { fixed_vertices: cfg!(target_abi = "eabi"), ..reference::options() };
     let transform = reference::transform();
 
     let mut stats = Stats::default();
