@@ -65,6 +65,19 @@ pub const NEEDS_CLIP: u8 = 0x80;
 /// vertex cache), so that per triangle culling and clipping decisions are bit operations.
 #[must_use]
 pub fn outcode(p: Vec4, planes: &Planes) -> u8 {
+    #[cfg(soft_float)]
+    {
+        outcode_by_keys(p, planes)
+    }
+    #[cfg(not(soft_float))]
+    {
+        outcode_by_floats(p, planes)
+    }
+}
+
+/// [`outcode`] with float arithmetic and comparisons.
+#[cfg_attr(soft_float, allow(dead_code))]
+fn outcode_by_floats(p: Vec4, planes: &Planes) -> u8 {
     if !p.is_finite() {
         return NOT_FINITE;
     }
@@ -73,6 +86,25 @@ pub fn outcode(p: Vec4, planes: &Planes) -> u8 {
     // NaN (from overflowing products) counts as outside: cutting copes with it.
     let clip = !planes.distances(p).iter().all(|&d| d >= 0.0);
     outside | if clip { NEEDS_CLIP } else { 0 }
+}
+
+/// [`outcode`] for targets without an FPU: the same bits with integer comparisons of
+/// [`order_key`](crate::math::order_key)s. Each plane test `a + b < 0` is `a < -b`, exactly
+/// (a float sum is zero only for opposite operands, and rounding keeps its sign), so only the
+/// guard band's two products are float operations.
+#[cfg_attr(not(soft_float), allow(dead_code))]
+fn outcode_by_keys(p: Vec4, planes: &Planes) -> u8 {
+    use crate::math::order_key as key;
+    let [x, y, z, w] = p.to_array();
+    if [x, y, z, w].iter().any(|c| c.to_bits() & 0x7f80_0000 == 0x7f80_0000) {
+        return NOT_FINITE;
+    }
+    let (kx, ky, kz, kw, minus_w) = (key(x), key(y), key(z), key(w), key(-w));
+    let view = [kz < minus_w, kw < kz, kx < minus_w, kw < kx, ky < minus_w, kw < ky];
+    let outside = view.iter().enumerate().fold(0, |code, (k, &out)| code | u8::from(out) << k);
+    let (gx, gy) = (planes.gx * w, planes.gy * w);
+    let inside = kz >= minus_w && kw >= kz && kx >= key(-gx) && key(gx) >= kx && ky >= key(-gy) && key(gy) >= ky;
+    outside | if inside { 0 } else { NEEDS_CLIP }
 }
 
 /// Whether a triangle with these vertex outcodes cannot cover any pixel: all three outside
@@ -187,6 +219,39 @@ mod tests {
 
     fn outside_view_or_not_finite(p: [Vec4; 3]) -> bool {
         culled(p.map(|p| outcode(p, &Planes { gx: 4.0, gy: 4.0 })))
+    }
+
+    /// Integer and float outcodes agree: random points of every magnitude and sign, points on
+    /// the planes, zeros of both signs and non-finite coordinates.
+    #[test]
+    fn outcodes_by_keys_equal_outcodes_by_floats() {
+        let planes = Planes { gx: 4.0, gy: 3.0 };
+        let mut state = 0x0123_4567_89ab_cdefu64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let special = [0.0, -0.0, 1.0, -1.0, 4.0, -4.0, 0.5, f32::MAX, f32::MIN_POSITIVE, f32::INFINITY, f32::NAN];
+        for n in 0..300_000 {
+            let mut c = [0.0f32; 4];
+            for v in c.iter_mut() {
+                let r = next();
+                *v = match r % 4 {
+                    0 => special[(r >> 8) as usize % special.len()] * if r & 128 != 0 { -1.0 } else { 1.0 },
+                    1 => f32::from_bits((r >> 16) as u32),
+                    _ => ((r >> 20) % 2001) as f32 / 250.0 - 4.0,
+                };
+            }
+            // Points exactly on a plane: x = ±w, y = ±gy·w, z = ±w.
+            if n % 5 == 0 {
+                let k = (next() % 3) as usize;
+                c[k] = if k == 1 { planes.gy * c[3] } else { -c[3] };
+            }
+            let p = Vec4::from_array(c);
+            assert_eq!(outcode_by_keys(p, &planes), outcode_by_floats(p, &planes), "{p:?}");
+        }
     }
 
     /// Each plane on its own, points exactly on a plane, and every non-finite coordinate.

@@ -90,6 +90,19 @@ pub fn floor_to_i32(x: f32) -> i32 {
     }
 }
 
+/// An integer that orders like `x` for every non-NaN float, with `-0.0` and `+0.0` equal:
+/// float comparisons as integer ones, for targets without an FPU.
+#[inline(always)]
+#[must_use]
+pub fn order_key(x: f32) -> i32 {
+    let b = x.to_bits() as i32;
+    if b < 0 {
+        -(b & 0x7fff_ffff)
+    } else {
+        b
+    }
+}
+
 /// `a · q` exactly, for `|a| < 2^30` and `|q| <= 2^15`: two 32-bit products on FPU-less
 /// targets (whose 64-bit multiply is a library call), one widening multiply elsewhere.
 #[inline(always)]
