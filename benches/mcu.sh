@@ -113,7 +113,9 @@ for config in "${configs[@]}"; do
 done
 
 echo
-echo "Reference Suzanne frame, 240x240 RGB565, textured (nearest), Gouraud, perspective-correct (within 1/16 texel)."
+echo "Reference Suzanne frame, 240x240 RGB565, textured (nearest), Gouraud, perspective-correct (within 1/16 texel),"
+echo "drawn with a RowCache of triangle rows and transformed vertices. The thumbv6m build (no FPU) uses 16-bit"
+echo "positions and the fixed-point vertex path (RenderOptions::fixed_vertices); the M4F build f32 positions and vertices."
 echo "Instruction counts from QEMU (-icount shift=0, qemu-insncount plugin); per frame = 2 frames - 1 frame."
 echo "Flash = .vector_table + .text + .rodata + .data (includes the 32 KiB 128x128 RGB565 texture);"
 echo "static RAM = .data + .bss (includes the colour and depth band buffers); stack = high-water mark of the"
