@@ -133,15 +133,21 @@ pub fn clip_triangle(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) 
 /// it needs [`cut`]; `Outside` when one of its first `checked` varyings is not finite (the
 /// others are known to be).
 pub(crate) fn classify(tri: &[ClipVertex; 3], codes: [u8; 3], checked: usize) -> ClipResult {
-    // `a · 0` is 0 for every finite `a` and NaN for infinities and NaN: one multiply-add each.
-    let junk: f32 = tri.iter().flat_map(|v| v.varyings.iter().take(checked)).map(|a| a * 0.0).sum();
-    if junk != 0.0 {
+    if !finite_varyings(&[tri[0].varyings, tri[1].varyings, tri[2].varyings], checked) {
         ClipResult::Outside
     } else if (codes[0] | codes[1] | codes[2]) & NEEDS_CLIP == 0 {
         ClipResult::Inside
     } else {
         ClipResult::Clipped
     }
+}
+
+/// Whether the first `checked` varyings of three vertices are all finite.
+#[inline]
+pub(crate) fn finite_varyings(v: &[[f32; MAX_VARYINGS]; 3], checked: usize) -> bool {
+    // `a · 0` is 0 for every finite `a` and NaN for infinities and NaN: one multiply-add each.
+    let junk: f32 = v.iter().flat_map(|v| v.iter().take(checked)).map(|a| a * 0.0).sum();
+    junk == 0.0
 }
 
 /// Cuts `tri` by every plane into `out`: `Clipped`, or `Outside` when nothing is left.

@@ -1,7 +1,7 @@
 //! The pipeline: model → (cull, transform, light) → clip → project → rasterize → shade.
 
 use crate::camera::Camera;
-use crate::clip::{classify, culled, cut, outcode, ClipResult, ClipVertex, Planes, Polygon};
+use crate::clip::{culled, cut, finite_varyings, outcode, ClipResult, ClipVertex, Planes, Polygon, NEEDS_CLIP};
 use crate::format::{Arrays, Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, FixedTransform, Mat3, Mat4, Vec3, Vec4};
 use crate::raster::{facing, step_varyings, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS};
@@ -468,15 +468,43 @@ fn quantize_light([r, g, b, specular]: [f32; 4]) -> VertexLight {
     [r, g, b, crate::math::to_i32(specular * 255.0 + 0.5).clamp(0, 255) as u16 * 257]
 }
 
-/// A vertex's clip-space position, light and [`outcode`], computed once a frame (see
-/// [`RowCache`]): 24 bytes.
+/// A vertex projected and lit, computed once a frame (see [`RowCache`]): 24 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct TransformedVertex {
-    clip: [f32; 4],
+    screen: Projected,
     light: [u16; 3],
     /// [`VertexLight`]'s specular / 257.
     specular: u8,
+}
+
+/// What the unclipped path needs of a clip-space vertex: its snapped screen position (28.4),
+/// depth (0..=1) and `1/w`, meaningful when `1/w` is positive and finite, and its
+/// [`outcode`]. Triangles that need clipping transform their vertices again.
+#[derive(Clone, Copy, Debug)]
+struct Projected {
+    x: i32,
+    y: i32,
+    z: f32,
+    inv_w: f32,
     outcode: u8,
+}
+
+impl Projected {
+    fn new<const L: usize>(ctx: &Context<'_, L>, clip: Vec4) -> Self {
+        let xy = project_xy(clip, ctx.half);
+        let z = ((clip.z * xy.inv_w + 1.0) * 0.5).clamp(0.0, 1.0);
+        Projected { x: xy.x, y: xy.y, z, inv_w: xy.inv_w, outcode: outcode(clip, &ctx.planes) }
+    }
+
+    /// In front of the eye, with a usable `1/w`: positive and finite (bits 1..=0x7f7f_ffff).
+    #[inline(always)]
+    fn in_front(&self) -> bool {
+        self.inv_w.to_bits().wrapping_sub(1) < 0x7f7f_ffff
+    }
+
+    fn screen_vertex(&self, varyings: [i32; MAX_VARYINGS]) -> ScreenVertex {
+        ScreenVertex { x: self.x, y: self.y, z: self.z, inv_w: self.inv_w, varyings }
+    }
 }
 
 impl Default for TransformedVertex {
@@ -485,15 +513,18 @@ impl Default for TransformedVertex {
     }
 }
 
-/// The `w` of a vertex not transformed yet this frame: +0, so that the empty cache is all zero
-/// bytes (`.bss`, not flash). A vertex whose `w` really is +0 (on the eye plane) is simply
+/// The `1/w` of a vertex not transformed yet this frame: +0, so that the empty cache is all zero
+/// bytes (`.bss`, not flash). A vertex whose `1/w` really is +0 (an infinite `w`) is simply
 /// transformed again at each use, with the same result.
-const UNKNOWN_W: u32 = 0;
+const UNKNOWN_INV_W: u32 = 0;
 
 impl TransformedVertex {
     /// Not yet transformed this frame.
-    pub const UNKNOWN: TransformedVertex =
-        TransformedVertex { clip: [0.0, 0.0, 0.0, f32::from_bits(UNKNOWN_W)], light: [0; 3], specular: 0, outcode: 0 };
+    pub const UNKNOWN: TransformedVertex = TransformedVertex {
+        screen: Projected { x: 0, y: 0, z: 0.0, inv_w: f32::from_bits(UNKNOWN_INV_W), outcode: 0 },
+        light: [0; 3],
+        specular: 0,
+    };
 
     fn vertex_light(&self) -> VertexLight {
         let [r, g, b] = self.light;
@@ -603,25 +634,22 @@ fn front_end<const L: usize>(
     stats: &mut Stats,
 ) -> Front {
     let idx = s.arrays.triangle(t);
-    let (clip, codes, lights) = match vertices {
+    let (p, lights) = match vertices {
         Some(cache) => {
             let v = idx.map(|i| transformed(ctx, s, cache, i));
-            (v.map(|v| Vec4::from_array(v.clip)), v.map(|v| v.outcode), Some(v.map(|v| v.vertex_light())))
+            (v.map(|v| v.screen), Some(v.map(|v| v.vertex_light())))
         }
-        None => {
-            let clip = idx.map(|i| clip_position(s, i));
-            (clip, clip.map(|p| outcode(p, &ctx.planes)), None)
-        }
+        None => (idx.map(|i| Projected::new(ctx, clip_position(s, i))), None),
     };
+    let codes = p.map(|p| p.outcode);
     if culled(codes) {
         stats.culled_frustum += 1;
         return Front::Done(TriangleRows::EMPTY);
     }
     // Back faces are rejected before any lighting when the triangle is wholly in front of the
-    // eye: projection keeps the winding, and the snapped positions are the ones `project`
-    // computes below, so the decision is the same one the rasterizer would make.
-    let in_front = clip.iter().all(|c| c.w > 0.0);
-    let xy = in_front.then(|| clip.map(|c| project_xy(c, ctx.half)));
+    // eye: projection keeps the winding, and the snapped positions are the ones the rasterizer
+    // gets below, so the decision is the same one it would make.
+    let xy = p.iter().all(Projected::in_front).then(|| p.map(|p| p.screen_vertex([0; MAX_VARYINGS])));
     let (mut area, mut known_rows) = (None, None);
     if let Some(xy) = &xy {
         match facing(xy, material.cull_back_faces, s.flip) {
@@ -643,23 +671,19 @@ fn front_end<const L: usize>(
         }
         known_rows = Some(rows);
     }
-    let tri = vertex_varyings(ctx, s, &idx, &clip, lights, sampler);
+    let varyings = vertex_varyings(ctx, s, &idx, lights, sampler);
     // Light and specular come from 16-bit integers: only the others can be non-finite.
     let maybe_not_finite = if ctx.opts.shading == Shading::Phong { MAX_VARYINGS } else { LIGHT };
-    match classify(&tri, codes, maybe_not_finite) {
-        ClipResult::Outside => {
-            stats.culled_frustum += 1;
-            Front::Done(TriangleRows::EMPTY)
-        }
-        ClipResult::Inside => {
-            let screen: [ScreenVertex; 3] = match xy {
-                Some(xy) => core::array::from_fn(|k| with_depth_and_varyings(&tri[k], xy[k])),
-                None => tri.map(|v| project(&v, ctx.half)),
-            };
-            Front::Inside(screen, (area, known_rows))
-        }
-        ClipResult::Clipped => Front::Clipped(tri),
+    if !finite_varyings(&varyings, maybe_not_finite) {
+        stats.culled_frustum += 1;
+        return Front::Done(TriangleRows::EMPTY);
     }
+    if (codes[0] | codes[1] | codes[2]) & NEEDS_CLIP == 0 {
+        // Saturating casts: huge UVs clamp instead of wrapping.
+        let screen = core::array::from_fn(|k| p[k].screen_vertex(varyings[k].map(crate::math::to_i32)));
+        return Front::Inside(screen, (area, known_rows));
+    }
+    Front::Clipped(core::array::from_fn(|k| ClipVertex { pos: clip_position(s, idx[k]), varyings: varyings[k] }))
 }
 
 /// Cuts a triangle that crosses a clipping plane and draws what is left. Not inlined: the
@@ -805,12 +829,12 @@ fn transformed<const L: usize>(
     i: u32,
 ) -> TransformedVertex {
     let fresh = || {
-        let (clip, [r, g, b, specular]) = (clip_position(s, i), vertex_light(ctx, s, i));
-        let outcode = outcode(clip, &ctx.planes);
-        TransformedVertex { clip: clip.to_array(), light: [r, g, b], specular: (specular / 257) as u8, outcode }
+        let [r, g, b, specular] = vertex_light(ctx, s, i);
+        let screen = Projected::new(ctx, clip_position(s, i));
+        TransformedVertex { screen, light: [r, g, b], specular: (specular / 257) as u8 }
     };
     match cache.get_mut(i as usize) {
-        Some(v) if v.clip[3].to_bits() == UNKNOWN_W => {
+        Some(v) if v.screen.inv_w.to_bits() == UNKNOWN_INV_W => {
             *v = fresh();
             *v
         }
@@ -819,16 +843,15 @@ fn transformed<const L: usize>(
     }
 }
 
-/// The clip-space triangle with its varyings for the shading mode (see the slot constants).
-/// `gouraud`: the vertices' [`vertex_light`]s when already known.
+/// The triangle's varyings for the shading mode (see the slot constants). `gouraud`: the
+/// vertices' [`vertex_light`]s when already known.
 fn vertex_varyings<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     idx: &[u32; 3],
-    clip: &[Vec4; 3],
     gouraud: Option<[VertexLight; 3]>,
     sampler: Option<&Sampler<'_>>,
-) -> [ClipVertex; 3] {
+) -> [[f32; MAX_VARYINGS]; 3] {
     let shading = ctx.opts.shading;
     let world = || idx.map(|i| world_position(s, i));
     // Light and specular per vertex (unlit, flat, Gouraud) or nothing (Phong lights per pixel).
@@ -870,7 +893,7 @@ fn vertex_varyings<const L: usize>(
             }
             varyings[SPECULAR] = lit[k][3] as f32;
         }
-        ClipVertex { pos: clip[k], varyings }
+        varyings
     })
 }
 
