@@ -468,14 +468,20 @@ fn quantize_light([r, g, b, specular]: [f32; 4]) -> VertexLight {
     [r, g, b, crate::math::to_i32(specular * 255.0 + 0.5).clamp(0, 255) as u16 * 257]
 }
 
-/// A vertex projected and lit, computed once a frame (see [`RowCache`]): 24 bytes.
+/// A vertex projected and lit, computed once a frame (see [`RowCache`]): a [`Projected`] and
+/// a [`VertexLight`] in 24 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct TransformedVertex {
-    screen: Projected,
+    xy: [i32; 2],
+    z: f32,
+    inv_w: f32,
     light: [u16; 3],
     /// [`VertexLight`]'s specular / 257.
     specular: u8,
+    outcode: u8,
 }
+
+const _: () = assert!(core::mem::size_of::<TransformedVertex>() == 24);
 
 /// What the unclipped path needs of a clip-space vertex: its snapped screen position (28.4),
 /// depth (0..=1) and `1/w`, meaningful when `1/w` is positive and finite, and its
@@ -521,10 +527,22 @@ const UNKNOWN_INV_W: u32 = 0;
 impl TransformedVertex {
     /// Not yet transformed this frame.
     pub const UNKNOWN: TransformedVertex = TransformedVertex {
-        screen: Projected { x: 0, y: 0, z: 0.0, inv_w: f32::from_bits(UNKNOWN_INV_W), outcode: 0 },
+        xy: [0; 2],
+        z: 0.0,
+        inv_w: f32::from_bits(UNKNOWN_INV_W),
         light: [0; 3],
         specular: 0,
+        outcode: 0,
     };
+
+    fn new(p: Projected, [r, g, b, specular]: VertexLight) -> Self {
+        let (xy, z, inv_w, outcode) = ([p.x, p.y], p.z, p.inv_w, p.outcode);
+        TransformedVertex { xy, z, inv_w, light: [r, g, b], specular: (specular / 257) as u8, outcode }
+    }
+
+    fn projected(&self) -> Projected {
+        Projected { x: self.xy[0], y: self.xy[1], z: self.z, inv_w: self.inv_w, outcode: self.outcode }
+    }
 
     fn vertex_light(&self) -> VertexLight {
         let [r, g, b] = self.light;
@@ -637,7 +655,7 @@ fn front_end<const L: usize>(
     let (p, lights) = match vertices {
         Some(cache) => {
             let v = idx.map(|i| transformed(ctx, s, cache, i));
-            (v.map(|v| v.screen), Some(v.map(|v| v.vertex_light())))
+            (v.map(|v| v.projected()), Some(v.map(|v| v.vertex_light())))
         }
         None => (idx.map(|i| Projected::new(ctx, clip_position(s, i))), None),
     };
@@ -828,13 +846,9 @@ fn transformed<const L: usize>(
     cache: &mut [TransformedVertex],
     i: u32,
 ) -> TransformedVertex {
-    let fresh = || {
-        let [r, g, b, specular] = vertex_light(ctx, s, i);
-        let screen = Projected::new(ctx, clip_position(s, i));
-        TransformedVertex { screen, light: [r, g, b], specular: (specular / 257) as u8 }
-    };
+    let fresh = || TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), vertex_light(ctx, s, i));
     match cache.get_mut(i as usize) {
-        Some(v) if v.screen.inv_w.to_bits() == UNKNOWN_INV_W => {
+        Some(v) if v.inv_w.to_bits() == UNKNOWN_INV_W => {
             *v = fresh();
             *v
         }
