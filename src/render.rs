@@ -652,12 +652,12 @@ fn front_end<const L: usize>(
     stats: &mut Stats,
 ) -> Front {
     let idx = s.arrays.triangle(t);
-    let (p, lights) = match vertices {
+    let fresh = |i: u32| Projected::new(ctx, clip_position(s, i));
+    let (p, cache) = match vertices {
         Some(cache) => {
-            let v = idx.map(|i| transformed(ctx, s, cache, i));
-            (v.map(|v| v.projected()), Some(v.map(|v| v.vertex_light())))
+            (idx.map(|i| cached(ctx, s, cache, i).map_or_else(|| fresh(i), TransformedVertex::projected)), Some(cache))
         }
-        None => (idx.map(|i| Projected::new(ctx, clip_position(s, i))), None),
+        None => (idx.map(fresh), None),
     };
     let codes = p.map(|p| p.outcode);
     if culled(codes) {
@@ -689,6 +689,9 @@ fn front_end<const L: usize>(
         }
         known_rows = Some(rows);
     }
+    let lights = cache.map(|c| {
+        idx.map(|i| c.get(i as usize).map_or_else(|| vertex_light(ctx, s, i), TransformedVertex::vertex_light))
+    });
     let varyings = vertex_varyings(ctx, s, &idx, lights, sampler);
     // Light and specular come from 16-bit integers: only the others can be non-finite.
     let maybe_not_finite = if ctx.opts.shading == Shading::Phong { MAX_VARYINGS } else { LIGHT };
@@ -839,22 +842,18 @@ fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32)
     quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(p, n, ctx.eye)])
 }
 
-/// Vertex `i` from the frame's cache, transformed and lit on first use.
-fn transformed<const L: usize>(
+/// Vertex `i` in the frame's cache, transformed and lit on first use (`None` beyond the cache).
+fn cached<'c, const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
-    cache: &mut [TransformedVertex],
+    cache: &'c mut [TransformedVertex],
     i: u32,
-) -> TransformedVertex {
-    let fresh = || TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), vertex_light(ctx, s, i));
-    match cache.get_mut(i as usize) {
-        Some(v) if v.inv_w.to_bits() == UNKNOWN_INV_W => {
-            *v = fresh();
-            *v
-        }
-        Some(v) => *v,
-        None => fresh(),
+) -> Option<&'c TransformedVertex> {
+    let v = cache.get_mut(i as usize)?;
+    if v.inv_w.to_bits() == UNKNOWN_INV_W {
+        *v = TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), vertex_light(ctx, s, i));
     }
+    Some(v)
 }
 
 /// The triangle's varyings for the shading mode (see the slot constants). `gouraud`: the
