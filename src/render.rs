@@ -366,13 +366,16 @@ fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
             Some(seen) => {
                 let (start, end) = (ctx.window.row_start, ctx.window.row_end);
+                // Counted in a local: `stats` lives in memory (the draw call borrows it).
+                let mut skipped = 0;
                 for (t, r) in range.zip(seen) {
                     if r.may_touch(start, end) {
                         *r = draw(t, &mut stats);
                     } else {
-                        stats.outside_band += 1;
+                        skipped += 1;
                     }
                 }
+                stats.outside_band += skipped;
             }
             None => range.for_each(|t| {
                 draw(t, &mut stats);
