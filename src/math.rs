@@ -64,6 +64,46 @@ pub fn to_i32(x: f32) -> i32 {
     }
 }
 
+/// `v as f32`, with the common case of a `v` that fits in i32 converted by the FPU (`as f32` of
+/// an i64 is a library call even on Cortex-M4F). The same rounding either way.
+#[inline(always)]
+#[must_use]
+pub fn i64_to_f32(v: i64) -> f32 {
+    match i32::try_from(v) {
+        Ok(small) => small as f32,
+        Err(_) => i64_to_f32_scaled(v, 0),
+    }
+}
+
+/// `x as i64` (truncated towards zero, saturating, NaN gives 0) without the library call that
+/// `as i64` is on 32-bit targets: below 2^31 in magnitude through i32; above, a float is an
+/// integer, its 24-bit significand shifted into place.
+#[inline]
+#[must_use]
+pub fn f32_to_i64(x: f32) -> i64 {
+    let b = x.to_bits();
+    let exp = ((b >> 23) & 0xff) as i32 - 127;
+    if exp < 31 {
+        return to_i32(x) as i64;
+    }
+    if exp >= 63 {
+        let nan = exp == 128 && b << 9 != 0;
+        return if nan {
+            0
+        } else if b >> 31 != 0 {
+            i64::MIN
+        } else {
+            i64::MAX
+        };
+    }
+    let magnitude = (((b & 0x7f_ffff) | 0x80_0000) as i64) << (exp - 23);
+    if b >> 31 != 0 {
+        -magnitude
+    } else {
+        magnitude
+    }
+}
+
 /// `floor(x) as i32` (saturating; NaN gives 0) without a float `floor`, which Cortex-M4F's
 /// FPU lacks: truncate, then step down where truncation went up (from the bits without an
 /// FPU, see [`to_i32`]).
@@ -149,7 +189,7 @@ pub fn i64_to_f32_scaled(v: i64, e: i32) -> f32 {
 /// [`i64_to_f32_scaled`] in integer code.
 #[cfg_attr(not(soft_float), allow(dead_code))]
 fn soft_i64_to_f32_scaled(v: i64, e: i32) -> f32 {
-    let f = i64_to_f32(v);
+    let f = bits_i64_to_f32(v);
     let exp = ((f.to_bits() >> 23) & 0xff) as i32;
     if exp > 0 && (1..255).contains(&(exp - e)) {
         return f32::from_bits((f.to_bits() & !(0xff << 23)) | (((exp - e) as u32) << 23));
@@ -159,7 +199,7 @@ fn soft_i64_to_f32_scaled(v: i64, e: i32) -> f32 {
 
 /// `v as f32` in integer code: the top 24 significant bits, rounded to nearest, ties to even.
 #[cfg_attr(not(soft_float), allow(dead_code))]
-fn i64_to_f32(v: i64) -> f32 {
+fn bits_i64_to_f32(v: i64) -> f32 {
     if v == 0 {
         return 0.0;
     }
@@ -402,6 +442,24 @@ mod tests {
         assert_eq!([clamp01(-1.0), clamp01(0.25), clamp01(7.0), clamp01(f32::NAN)], [0.0, 0.25, 1.0, 0.0]);
     }
 
+    /// The i32-first conversions between f32 and i64 equal `as`.
+    #[test]
+    fn i64_float_conversions_match_as() {
+        let mut state = 0x5555_aaaa_1234_9876u64;
+        for k in 0..1_000_000u32 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let v = (state as i64) >> (k % 64);
+            assert_eq!(i64_to_f32(v).to_bits(), (v as f32).to_bits(), "{v}");
+            let x = f32::from_bits(state as u32);
+            assert_eq!(f32_to_i64(x), x as i64, "{x:e}");
+        }
+        for x in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 9.2e18, -9.3e18, 2147483648.0, -2147483648.0, -0.7] {
+            assert_eq!(f32_to_i64(x), x as i64, "{x:e}");
+        }
+    }
+
     /// The integer `i64 as f32` of FPU-less targets rounds like the hardware one, and scaling
     /// by the exponent gives what multiplying does.
     #[test]
@@ -418,7 +476,7 @@ mod tests {
             (state as i64) >> (k % 64)
         }));
         for v in values {
-            assert_eq!(i64_to_f32(v).to_bits(), (v as f32).to_bits(), "{v}");
+            assert_eq!(bits_i64_to_f32(v).to_bits(), (v as f32).to_bits(), "{v}");
             for e in [-40, -3, 0, 7, 60, 100, 120] {
                 let want = scale_by_power_of_two(v as f32, -e);
                 assert_eq!(soft_i64_to_f32_scaled(v, e).to_bits(), want.to_bits(), "{v} / 2^{e}");

@@ -280,14 +280,14 @@ impl<const V: usize> Setup<V> {
         let edges = [Edge::new(b, c, ox, oy), Edge::new(c, a, ox, oy), Edge::new(a, b, ox, oy)];
 
         // Depth plane from the three vertices (f32 setup, deterministic on every target).
-        let af = area as f32;
+        let af = crate::math::i64_to_f32(area);
         let (dz1, dz2) = (b.z - a.z, c.z - a.z);
         let (ex1, ey1, ex2, ey2) = ((b.x - a.x) as f32, (b.y - a.y) as f32, (c.x - a.x) as f32, (c.y - a.y) as f32);
         let gx = (dz1 * ey2 - dz2 * ey1) / af; // per 1/16 pixel
         let gy = (dz2 * ex1 - dz1 * ex2) / af;
         const Z_ONE: f32 = (1u64 << 40) as f32;
         let z_at_origin = a.z + gx * (ox - a.x) as f32 + gy * (oy - a.y) as f32;
-        let to_fixed = |v: f32| (v * Z_ONE) as i64;
+        let to_fixed = |v: f32| crate::math::f32_to_i64(v * Z_ONE);
 
         let max_w = max(max(a.inv_w, b.inv_w), c.inv_w);
         let norm = |q: f32| q / max_w;
@@ -626,7 +626,7 @@ impl<const V: usize> Planes<V> {
         (v0, d1, d2): (&[i32; V], &[f32; V], &[f32; V]),
         (width, height): (i32, i32),
     ) -> Option<Self> {
-        let inv_area = 1.0 / area as f32;
+        let inv_area = 1.0 / crate::math::i64_to_f32(area);
         let per_pixel = |c: i32| (c * 16) as f32 * inv_area;
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), edges[1].c as f32 * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), edges[2].c as f32 * inv_area);
