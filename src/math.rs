@@ -71,7 +71,9 @@ pub fn to_i32(x: f32) -> i32 {
 pub fn i64_to_f32(v: i64) -> f32 {
     match i32::try_from(v) {
         Ok(small) => small as f32,
-        Err(_) => i64_to_f32_scaled(v, 0),
+        // From the bits: given `v as f32` here, the compiler would merge the two branches into
+        // that library call.
+        Err(_) => bits_i64_to_f32(v),
     }
 }
 
@@ -198,7 +200,6 @@ fn soft_i64_to_f32_scaled(v: i64, e: i32) -> f32 {
 }
 
 /// `v as f32` in integer code: the top 24 significant bits, rounded to nearest, ties to even.
-#[cfg_attr(not(soft_float), allow(dead_code))]
 fn bits_i64_to_f32(v: i64) -> f32 {
     if v == 0 {
         return 0.0;
