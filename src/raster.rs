@@ -220,6 +220,11 @@ pub const MAX_COORD: i32 = 1 << 24;
 /// # Errors
 /// [`Reject::Degenerate`] for zero area, [`Reject::BackFace`] for a culled back face.
 pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
+    facing_of(tri.each_ref().map(|v| (v.x, v.y, v.inv_w)), cull_back, flip)
+}
+
+/// [`facing`] of the vertices' `(x, y, 1/w)`.
+pub(crate) fn facing_of(p: [(i32, i32, f32); 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
     // Clipping keeps triangles inside the guard band, but float rounding (or a denormal w) can
     // still push a vertex out; the integer ranges above hold only inside, so refuse the rest.
     let span = |[a, b, c]: [i32; 3]| {
@@ -227,15 +232,15 @@ pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i6
         // Both within ±2^24, so the difference fits i32.
         lo > -MAX_COORD && hi < MAX_COORD && hi - lo < MAX_EXTENT
     };
-    let [p0, p1, p2] = tri;
+    let [p0, p1, p2] = p;
     // 0 < 1/w < infinity (not NaN), on the bits: positive finite floats are 1..0x7f80_0000.
     let w_ok = |w: f32| w.to_bits().wrapping_sub(1) < 0x7f7f_ffff;
-    let inside = span([p0.x, p1.x, p2.x]) && span([p0.y, p1.y, p2.y]);
-    if !(inside && w_ok(p0.inv_w) && w_ok(p1.inv_w) && w_ok(p2.inv_w)) {
+    let inside = span([p0.0, p1.0, p2.0]) && span([p0.1, p1.1, p2.1]);
+    if !(inside && w_ok(p0.2) && w_ok(p1.2) && w_ok(p2.2)) {
         return Err(Reject::OutsideGuardBand);
     }
     // Coordinates are < 2^15 apart (checked above): the products fit i64 easily.
-    let area = (p1.x - p0.x) as i64 * (p2.y - p0.y) as i64 - (p2.x - p0.x) as i64 * (p1.y - p0.y) as i64;
+    let area = (p1.0 - p0.0) as i64 * (p2.1 - p0.1) as i64 - (p2.0 - p0.0) as i64 * (p1.1 - p0.1) as i64;
     if area == 0 {
         return Err(Reject::Degenerate);
     }

@@ -4,7 +4,9 @@ use crate::camera::Camera;
 use crate::clip::{culled, cut, finite_varyings, outcode, ClipResult, ClipVertex, Planes, Polygon, NEEDS_CLIP};
 use crate::format::{Arrays, Material, Mesh, Model};
 use crate::math::{normal_matrix, normalize_or_zero, FixedTransform, Mat3, Mat4, Vec3, Vec4};
-use crate::raster::{facing, step_varyings, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS};
+use crate::raster::{
+    facing, facing_of, step_varyings, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS,
+};
 use crate::shade::{modulate, Filter, FixedLights, Lights, PixelLights, PreparedLights, Repeat565, Sampler};
 use crate::target::{Band, DepthBuffer, DepthCell, FrameColor, NoDepth, GUARD_HALF_EXTENT};
 
@@ -412,8 +414,13 @@ impl TriangleRows {
     /// Rows `floor(min_y)..=floor(max_y)` of the snapped polygon: a superset of the rows whose
     /// pixel centres it covers and of the rows its wireframe lines and points touch.
     fn of(screen: &[ScreenVertex], height: u16) -> Self {
-        let min = screen.iter().map(|v| v.y).min().unwrap_or(0) >> 4;
-        let max = screen.iter().map(|v| v.y).max().unwrap_or(-1) >> 4;
+        let ys = || screen.iter().map(|v| v.y);
+        Self::of_ys(ys().min().unwrap_or(0), ys().max().unwrap_or(-1), height)
+    }
+
+    /// [`TriangleRows::of`] the lowest and highest y (28.4).
+    fn of_ys(min: i32, max: i32, height: u16) -> Self {
+        let (min, max) = (min >> 4, max >> 4);
         if max < 0 || min >= height as i32 {
             return Self::EMPTY;
         }
@@ -670,10 +677,9 @@ fn front_end<const L: usize>(
     // Back faces are rejected before any lighting when the triangle is wholly in front of the
     // eye: projection keeps the winding, and the snapped positions are the ones the rasterizer
     // gets below, so the decision is the same one it would make.
-    let xy = p.iter().all(Projected::in_front).then(|| p.map(|p| p.screen_vertex([0; MAX_VARYINGS])));
     let (mut area, mut known_rows) = (None, None);
-    if let Some(xy) = &xy {
-        match facing(xy, material.cull_back_faces, s.flip) {
+    if p.iter().all(Projected::in_front) {
+        match facing_of(p.map(|p| (p.x, p.y, p.inv_w)), material.cull_back_faces, s.flip) {
             Err(Reject::BackFace) => {
                 stats.culled_back_face += 1;
                 return Front::Done(TriangleRows::EMPTY);
@@ -685,7 +691,7 @@ fn front_end<const L: usize>(
         // Rows of the unclipped triangle: a superset of what clipping leaves. A triangle that
         // cannot touch this band is not lit, clipped or set up here (a row cache learns its
         // rows for the later bands).
-        let rows = TriangleRows::of(xy, height);
+        let rows = TriangleRows::of_ys(p[0].y.min(p[1].y).min(p[2].y), p[0].y.max(p[1].y).max(p[2].y), height);
         if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
             stats.outside_band += 1;
             return Front::Done(rows);
