@@ -200,6 +200,8 @@ fn soft_i64_to_f32_scaled(v: i64, e: i32) -> f32 {
 }
 
 /// `v as f32` in integer code: the top 24 significant bits, rounded to nearest, ties to even.
+/// Not inlined: with an FPU it is the rare path of [`i64_to_f32`].
+#[inline(never)]
 fn bits_i64_to_f32(v: i64) -> f32 {
     if v == 0 {
         return 0.0;
