@@ -19,7 +19,7 @@ STAGES = [
     ("triangle set-up (edges, depth plane, affine test)", ["Setup", "raster::facing"]),
     ("lighting per vertex", ["Lights", "sqrtf"]),
     ("clipping and projection", ["clip_triangle", "clip::classify", "clip::cut", "draw_clipped", "project",
-                                 "outside_view_or_not_finite"]),
+                                 "clip::outcode", "clip::culled", "Projected"]),
     ("vertex fetch, transform, culling, fan-out", ["draw_triangle", "front_end", "vertex_varyings", "draw_polygon", "fill_with",
                                                      "format::Mesh", "format::Arrays", "TriangleRows", "fill", "draw_mesh_with",
                                                      "draw_all"]),

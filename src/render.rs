@@ -508,8 +508,7 @@ struct Projected {
 impl Projected {
     fn new<const L: usize>(ctx: &Context<'_, L>, clip: Vec4) -> Self {
         let xy = project_xy(clip, ctx.half);
-        let z = ((clip.z * xy.inv_w + 1.0) * 0.5).clamp(0.0, 1.0);
-        Projected { x: xy.x, y: xy.y, z, inv_w: xy.inv_w, outcode: outcode(clip, &ctx.planes) }
+        Projected { x: xy.x, y: xy.y, z: depth(clip, xy.inv_w), inv_w: xy.inv_w, outcode: outcode(clip, &ctx.planes) }
     }
 
     /// In front of the eye, with a usable `1/w`: positive and finite (bits 1..=0x7f7f_ffff).
@@ -921,18 +920,15 @@ fn vertex_varyings<const L: usize>(
 
 /// Clip space to screen: viewport mapping, 1/16-pixel snapping, fixed-point varyings.
 fn project(v: &ClipVertex, half: (f32, f32)) -> ScreenVertex {
-    with_depth_and_varyings(v, project_xy(v.pos, half))
+    let xy = project_xy(v.pos, half);
+    // Saturating casts: huge UVs clamp instead of wrapping.
+    ScreenVertex { z: depth(v.pos, xy.inv_w), varyings: v.varyings.map(crate::math::to_i32), ..xy }
 }
 
-/// [`project`] given the vertex's [`project_xy`].
+/// Depth (0..=1, near to far) of a clip-space point whose `1/w` is `inv_w`.
 #[inline]
-fn with_depth_and_varyings(v: &ClipVertex, xy: ScreenVertex) -> ScreenVertex {
-    ScreenVertex {
-        z: ((v.pos.z * xy.inv_w + 1.0) * 0.5).clamp(0.0, 1.0),
-        // Saturating casts: huge UVs clamp instead of wrapping.
-        varyings: v.varyings.map(crate::math::to_i32),
-        ..xy
-    }
+fn depth(clip: Vec4, inv_w: f32) -> f32 {
+    ((clip.z * inv_w + 1.0) * 0.5).clamp(0.0, 1.0)
 }
 
 /// The snapped screen position (28.4) and `1/w` of a clip-space point; no depth or varyings.
