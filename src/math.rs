@@ -132,6 +132,16 @@ pub fn floor_to_i32(x: f32) -> i32 {
     }
 }
 
+/// Whether `x` is positive and finite (0 < x < infinity, not NaN), from its bits: positive
+/// finite floats are exactly the bit patterns 1..=0x7f7f_ffff. A float comparison and
+/// `is_finite` would cost several instructions each on Cortex-M4F, and library calls without
+/// an FPU.
+#[inline(always)]
+#[must_use]
+pub fn is_positive_finite(x: f32) -> bool {
+    x.to_bits().wrapping_sub(1) < 0x7f7f_ffff
+}
+
 /// An integer that orders like `x` for every non-NaN float, with `-0.0` and `+0.0` equal:
 /// float comparisons as integer ones, for targets without an FPU.
 #[inline(always)]

@@ -125,10 +125,12 @@ impl EdgeWalk {
     fn clamp(&self, (lo, hi): (i32, i32)) -> (i32, i32) {
         if self.step > 0 {
             (lo.max(-self.q), hi)
-        } else if self.step < 0 || self.q >= 0 {
-            (lo, if self.step < 0 { hi.min(self.q) } else { hi })
+        } else if self.step < 0 {
+            (lo, hi.min(self.q))
+        } else if self.q >= 0 {
+            // A flat edge: the whole row is inside, or all of it outside.
+            (lo, hi)
         } else {
-            // A flat edge with the whole row outside.
             (1, 0)
         }
     }
@@ -233,8 +235,7 @@ pub(crate) fn facing_of(p: [(i32, i32, f32); 3], cull_back: bool, flip: bool) ->
         lo > -MAX_COORD && hi < MAX_COORD && hi - lo < MAX_EXTENT
     };
     let [p0, p1, p2] = p;
-    // 0 < 1/w < infinity (not NaN), on the bits: positive finite floats are 1..0x7f80_0000.
-    let w_ok = |w: f32| w.to_bits().wrapping_sub(1) < 0x7f7f_ffff;
+    let w_ok = crate::math::is_positive_finite;
     let inside = span([p0.0, p1.0, p2.0]) && span([p0.1, p1.1, p2.1]);
     if !(inside && w_ok(p0.2) && w_ok(p1.2) && w_ok(p2.2)) {
         return Err(Reject::OutsideGuardBand);

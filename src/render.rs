@@ -511,10 +511,10 @@ impl Projected {
         Projected { x: xy.x, y: xy.y, z: depth(clip, xy.inv_w), inv_w: xy.inv_w, outcode: outcode(clip, &ctx.planes) }
     }
 
-    /// In front of the eye, with a usable `1/w`: positive and finite (bits 1..=0x7f7f_ffff).
+    /// In front of the eye, with a usable (positive, finite) `1/w`.
     #[inline(always)]
     fn in_front(&self) -> bool {
-        self.inv_w.to_bits().wrapping_sub(1) < 0x7f7f_ffff
+        crate::math::is_positive_finite(self.inv_w)
     }
 
     fn screen_vertex(&self, varyings: [i32; MAX_VARYINGS]) -> ScreenVertex {

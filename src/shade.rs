@@ -159,7 +159,7 @@ impl<const N: usize> PreparedLights<N> {
             // n_world · L = n_stored · (Nᵀ L): one dot product per vertex, no normal turned.
             let towards = normals.transpose() * l.vector;
             let weight = l.diffuse * l.intensity;
-            if !(towards.is_finite() && weight.abs().max_element() <= 4.0 && weight.min_element() >= -4.0) {
+            if !(towards.is_finite() && weight.abs().max_element() <= 4.0) {
                 return None;
             }
             let towards = towards.to_array().map(|c| crate::math::to_i32(c * 32768.0).clamp(-32768, 32768));
