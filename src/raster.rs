@@ -650,7 +650,7 @@ impl<const V: usize> Planes<V> {
             }
             // Truncating: under one unit of 2^-8 off.
             let (o, gx, gy) = (to_i32(o), to_i32(gx), to_i32(gy));
-            (p.origin[k], p.gx[k], p.gy[k], p.step[k]) = (o, gx, gy, (gx + 128) >> 8);
+            (p.origin[k], p.gx[k], p.gy[k], p.step[k]) = (o, gx, gy, gx.wrapping_add(128) >> 8);
         }
         Some(p)
     }

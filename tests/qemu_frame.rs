@@ -45,6 +45,19 @@ fn reference_frame_covers_the_reference_pixel_count() {
     assert_eq!(covered, reference::COVERED_PIXELS as usize);
 }
 
+/// FNV-1a (64 bits) of the frames the firmware writes, recorded at commit `25acddd` (before the
+/// pipeline was split into stage modules): the QEMU frames must equal the host's rendering, and
+/// that rendering must not change unnoticed.
+const RECORDED_FRAMES: [(&str, u64); 2] =
+    [("qemu-frame-m4.rgb565", 0x9f40_f25b_95f0_709f), ("qemu-frame-m0.rgb565", 0x90ba_d2dc_9ebc_10b9)];
+
+/// FNV-1a (64 bits) of `bytes`.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
+}
+
+/// The host's rendering of each firmware frame (and so, when QEMU ran, the firmware's) is the
+/// recorded one.
 #[test]
 fn qemu_frames_equal_the_host_frame() {
     let required = std::env::var_os("SOFT3D_REQUIRE_QEMU").is_some();
@@ -57,6 +70,8 @@ fn qemu_frames_equal_the_host_frame() {
         let opts = soft3d::RenderOptions { fixed_vertices: !fpu, ..reference::options() };
         let (host, _, _) = render_with(&model, 30, &opts);
         let host_bytes: Vec<u8> = host.iter().flat_map(|c| RawU16::from(*c).into_inner().to_le_bytes()).collect();
+        let recorded = RECORDED_FRAMES.iter().find(|(n, _)| *n == name).map(|(_, h)| *h);
+        assert_eq!(Some(fnv1a(&host_bytes)), recorded, "{name}: the frame changed (hash {:016x})", fnv1a(&host_bytes));
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("out").join(name);
         let Ok(qemu) = std::fs::read(&path) else {
             assert!(!required, "{} missing: run scripts/qemu-check.sh first", path.display());
