@@ -35,8 +35,8 @@ use euc::buffer::Buffer2d;
 use euc::rasterizer::{BackfaceCullingEnabled, Triangles};
 use euc::{Pipeline, Target};
 use soft3d::convert::scene::{MaterialData, MeshData, Scene, SubMeshData, TextureData, IDENTITY};
+use soft3d::convert::{emit, EmitOptions};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::format::{emit, EmitOptions};
 use soft3d::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3};
 use soft3d::{
     reference, Band, Camera, FrameColor, Lights, Model, RenderOptions, RowCache, Shading, Stats, TransformedVertex,

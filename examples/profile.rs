@@ -1,8 +1,8 @@
 //! Renders the reference Suzanne frame repeatedly (for profilers such as callgrind or perf).
 //! `cargo run --release --example profile -- [frames] [width] [height] [bands] [unlit|flat|gouraud|phong]`
 use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
+use soft3d::convert::{emit, EmitOptions};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::format::{emit, EmitOptions};
 use soft3d::{reference, Band, Model};
 
 fn main() {

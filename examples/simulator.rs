@@ -26,8 +26,8 @@ use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::*;
 use embedded_graphics::text::{Baseline, Text};
 use embedded_graphics_simulator::{OutputSettingsBuilder, SimulatorDisplay};
+use soft3d::convert::{emit, EmitOptions};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::format::{emit, EmitOptions};
 use soft3d::math::{Mat4, Vec3};
 use soft3d::{Band, Camera, Filter, Lights, Mode, Model, RenderOptions, Shading, Stats};
 

@@ -1,6 +1,7 @@
 //! Rendering a frame in bands of any height gives exactly the pixels of the whole frame.
 use embedded_graphics_core::pixelcolor::Rgb888;
-use soft3d::format::{emit, EmitOptions, Model};
+use soft3d::convert::{emit, EmitOptions};
+use soft3d::format::Model;
 use soft3d::math::Mat4;
 use soft3d::render::{draw_model_sorted, SortEntry};
 use soft3d::{Band, Camera, Lights, Mode, NoDepth, RenderOptions, RowCache, Shading, TransformedVertex, TriangleRows};

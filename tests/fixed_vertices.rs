@@ -2,7 +2,8 @@
 //! the f32 one: every vertex of every asset projects within 1/16 pixel of where f32 puts it,
 //! and rendered frames differ only in pixels whose centres lie that close to an edge.
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
-use soft3d::format::{emit, EmitOptions, Model};
+use soft3d::convert::{emit, EmitOptions};
+use soft3d::format::Model;
 use soft3d::math::{FixedTransform, Mat4, Vec3, Vec4};
 use soft3d::{reference, Band, Camera, RenderOptions};
 

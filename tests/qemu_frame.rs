@@ -2,8 +2,8 @@
 //! QEMU firmware wrote (Cortex-M4F and thumbv6m builds of the same code).
 use embedded_graphics_core::pixelcolor::raw::{RawData, RawU16};
 use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
+use soft3d::convert::{emit, EmitOptions};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::format::{emit, EmitOptions};
 use soft3d::{reference, Band, Model, Stats};
 
 /// The firmware's conversion: UV origin at the top, 128-texel texture, exact (f32) positions

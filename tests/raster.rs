@@ -1224,7 +1224,7 @@ fn ascii_pictures_match_hand_checked_rules() {
 mod pipeline {
     use super::*;
     use soft3d::convert::scene::{MaterialData, MeshData, Scene, SubMeshData, IDENTITY};
-    use soft3d::format::{emit, EmitOptions};
+    use soft3d::convert::{emit, EmitOptions};
     use soft3d::math::{Mat4, Vec3};
     use soft3d::render::{draw_model, Mode, RenderOptions, Shading, Stats};
     use soft3d::shade::{Filter, Lights};

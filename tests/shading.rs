@@ -17,9 +17,8 @@
 use std::f64::consts::PI;
 
 use soft3d::convert::scene::{MaterialData, MeshData, Scene, SubMeshData, TextureData, Wrap as SceneWrap, IDENTITY};
-use soft3d::format::{
-    decode_texel, emit, encode_texel, EmitOptions, Model, Texture, TextureChoice, TextureFormat, Wrap,
-};
+use soft3d::convert::{emit, EmitOptions, TextureChoice};
+use soft3d::format::{decode_texel, encode_texel, Model, Texture, TextureFormat, Wrap};
 use soft3d::math::{normal_matrix, normalize_or_zero, Mat4, Vec3};
 use soft3d::shade::Sampler;
 use soft3d::target::FrameColor;

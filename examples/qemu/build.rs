@@ -3,7 +3,7 @@
 //! cortex-m-rt's `link.x` finds it.
 
 use soft3d::convert::{ConvertOptions, UvOrigin};
-use soft3d::format::EmitOptions;
+use soft3d::convert::EmitOptions;
 
 #[path = "../common/firmware_build.rs"]
 mod firmware_build;

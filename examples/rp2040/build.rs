@@ -2,7 +2,7 @@
 //! build-dependency) and hands the RP2040 memory map and linker arguments to the linker.
 
 use soft3d::convert::{ConvertOptions, UvOrigin};
-use soft3d::format::EmitOptions;
+use soft3d::convert::EmitOptions;
 
 #[path = "../common/firmware_build.rs"]
 mod firmware_build;

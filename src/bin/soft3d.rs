@@ -5,8 +5,9 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use embedded_graphics_core::pixelcolor::{BinaryColor, Gray8, Rgb565, Rgb888};
+use soft3d::convert::{emit, EmitOptions, TextureChoice};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::format::{emit, EmitOptions, TextureChoice, TextureFormat};
+use soft3d::format::TextureFormat;
 use soft3d::math::Vec3;
 use soft3d::target::DepthBuffer;
 use soft3d::{Band, Camera, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Shading, Stats};

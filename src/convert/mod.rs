@@ -4,14 +4,15 @@
 //! (hierarchy, rotations, texture matrices, UV origin) on the way.
 
 pub mod babylon;
+mod emit;
 pub mod scene;
+
+pub use emit::{emit, to_scene, EmitError, EmitOptions, TextureChoice};
 
 pub use babylon::{read_babylon, read_babylon_file, ConvertError, ConvertOptions, UvOrigin, Warning};
 
 use std::path::Path;
 use std::string::{String, ToString};
-
-use crate::format::{emit, EmitOptions};
 
 /// Converts `input` (a `.babylon` file) into the `.s3d` file `output`, for a firmware's
 /// `build.rs`: prints `cargo:rerun-if-changed` for the scene and its folder (textures) and each
@@ -21,7 +22,7 @@ use crate::format::{emit, EmitOptions};
 /// ```no_run
 /// // build.rs
 /// use soft3d::convert::{build_script_convert, ConvertOptions, UvOrigin};
-/// use soft3d::format::EmitOptions;
+/// use soft3d::convert::EmitOptions;
 /// let out = std::path::PathBuf::from(std::env::var_os("OUT_DIR").unwrap()).join("scene.s3d");
 /// let opts = ConvertOptions { uv_origin: UvOrigin::Bottom, max_texture: Some(128), power_of_two: true };
 /// build_script_convert("assets/scene.babylon".as_ref(), &out, &opts, &EmitOptions::default()).unwrap();

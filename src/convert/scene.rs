@@ -1,5 +1,5 @@
 //! The converter's in-memory scene: what a `.babylon` file means once every Babylon.js rule
-//! (hierarchy, rotations, texture matrices, UV origin) has been applied. `format::emit`
+//! (hierarchy, rotations, texture matrices, UV origin) has been applied. `convert::emit`
 //! writes it as `.s3d`; the `.babylon` reader produces it.
 
 use std::string::String;

@@ -1,0 +1,276 @@
+//! The `.s3d` byte layout, in one place: the field offsets and record sizes that the parser
+//! ([`super::model`]) reads and the host converter (`convert::emit`) writes, the codes stored in
+//! it, and the little-endian field readers. It owns no parsing logic and no validation.
+//!
+//! # Layout
+//! All numbers are little-endian and read with `from_le_bytes`, so the file can sit at any
+//! alignment (`include_bytes!` gives alignment 1). Offsets are byte offsets from the start of
+//! the file. `f32` fields must be finite. Unused (`reserved`) bytes are written as zero.
+//!
+//! **Header** (48 bytes, at offset 0)
+//!
+//! | bytes  | type     | field                                             |
+//! |--------|----------|---------------------------------------------------|
+//! | 0..4   | `[u8;4]` | magic `S3D\0`                                      |
+//! | 4..6   | u16      | version, [`VERSION`]                               |
+//! | 6..8   | u16      | reserved                                           |
+//! | 8..12  | u32      | file length in bytes (must equal the slice length) |
+//! | 12..14 | u16      | mesh count                                         |
+//! | 14..16 | u16      | material count                                     |
+//! | 16..18 | u16      | texture count                                      |
+//! | 18..20 | u16      | instance count                                     |
+//! | 20..22 | u16      | light count                                        |
+//! | 22..24 | u16      | reserved                                           |
+//! | 24..28 | u32      | offset of the mesh table (`count` x 148 bytes)     |
+//! | 28..32 | u32      | offset of the material table (`count` x 12 bytes)  |
+//! | 32..36 | u32      | offset of the texture table (`count` x 12 bytes)   |
+//! | 36..40 | u32      | offset of the instance table (`count` x 52 bytes)  |
+//! | 40..44 | u32      | offset of the light table (`count` x 32 bytes)     |
+//! | 44..48 | u32      | offset of the camera record (36 bytes), 0 = none   |
+//!
+//! **Mesh** (148 bytes). Positions, normals and UVs are quantized: a local position is
+//! `pos_offset + q * pos_scale` with `q` three u16, a normal is three i16 / 32767, a UV is
+//! `uv_offset + q * uv_scale` with `q` two u16.
+//!
+//! | bytes   | type      | field                                                        |
+//! |---------|-----------|--------------------------------------------------------------|
+//! | 0..48   | 12 x f32  | world matrix, Babylon row-vector rows 0..3, columns 0..2 (column 3 is 0,0,0,1) |
+//! | 48..60  | 3 x f32   | `pos_offset`                                                 |
+//! | 60..72  | 3 x f32   | `pos_scale` (>= 0)                                           |
+//! | 72..80  | 2 x f32   | `uv_offset`                                                  |
+//! | 80..88  | 2 x f32   | `uv_scale` (>= 0)                                            |
+//! | 88..104 | 4 x f32   | local bounding sphere: centre x, y, z, radius (>= 0)         |
+//! | 104..108| u32       | vertex count (>= 1)                                          |
+//! | 108..112| u32       | index count (a multiple of 3)                                |
+//! | 112..114| u16       | flags: bit 0 indices are u32 (else u16), bit 1 has UVs, bit 2 has colours, bit 3 positions are 3 x f32 (exact; `pos_offset` 0, `pos_scale` 1) |
+//! | 114..116| u16       | sub-mesh count (>= 1)                                        |
+//! | 116..120| u32       | offset of positions, `vertex count` x 3 x u16 (or 3 x f32, flag bit 3) |
+//! | 120..124| u32       | offset of normals, `vertex count` x 3 x i16                  |
+//! | 124..128| u32       | offset of UVs, `vertex count` x 2 x u16 (0 if no UVs)        |
+//! | 128..132| u32       | offset of colours, `vertex count` x RGBA u8 (0 if none)      |
+//! | 132..136| u32       | offset of indices, `index count` x u16 or u32, each < vertex count |
+//! | 136..140| u32       | offset of the sub-mesh records (`count` x 12 bytes)          |
+//! | 140..144| u32       | offset of the name (UTF-8)                                   |
+//! | 144..146| u16       | name length in bytes                                         |
+//! | 146..148| u16       | reserved                                                     |
+//!
+//! **Sub-mesh** (12 bytes): 0..2 u16 material index ([`NONE`] = default material), 2..4
+//! reserved, 4..8 u32 first index, 8..12 u32 index count; both multiples of 3 and inside the
+//! mesh's indices.
+//!
+//! **Material** (12 bytes): 0..4 RGBA u8 diffuse colour and alpha, 4 u8 flags (bit 0: cull
+//! back faces), 5 u8 wrap U, 6 u8 wrap V ([`Wrap`]: 0 clamp, 1 repeat, 2 mirror), 7 reserved,
+//! 8..10 u16 texture index ([`NONE`] = untextured), 10..12 reserved.
+//!
+//! **Texture** (12 bytes): 0..2 u16 width, 2..4 u16 height (both >= 1), 4 u8
+//! [`TextureFormat`], 5..8 reserved, 8..12 u32 offset of the texels: `height` rows of `width`
+//! texels, **row 0 is the bottom row of the image** (so texel `(i, j)` is at `j * width + i`
+//! with `j = floor(v * height)`).
+//!
+//! **Instance** (52 bytes): 0..2 u16 mesh index, 2..4 reserved, 4..52 world matrix as in the mesh
+//! record. An instance draws that mesh's geometry a second time with its own world matrix.
+//!
+//! **Light** (32 bytes): 0 u8 kind ([`LightKind`]: 0 point, 1 directional, 3 hemispheric),
+//! 1..4 reserved, 4..16 3 x f32 position (point) or direction, 16..28 3 x f32 diffuse colour,
+//! 28..32 f32 intensity.
+//!
+//! **Camera** (36 bytes): 0..12 position, 12..24 target (3 x f32 each), 24..28 f32 vertical
+//! field of view in radians (0 < fov < pi), 28..32 f32 near (> 0), 32..36 f32 far (> near).
+
+use crate::math::{Mat4, Vec3};
+
+/// The first four bytes of every `.s3d` file.
+pub const MAGIC: [u8; 4] = *b"S3D\0";
+/// The format version this crate reads and writes.
+pub const VERSION: u16 = 1;
+/// A `u16` reference that points at nothing (no material, no texture).
+pub const NONE: u16 = u16::MAX;
+
+pub(crate) mod header {
+    use core::ops::Range;
+    pub const MAGIC: Range<usize> = 0..4;
+    pub const VERSION: Range<usize> = 4..6;
+    pub const FILE_LEN: Range<usize> = 8..12;
+    pub const MESH_COUNT: Range<usize> = 12..14;
+    pub const MATERIAL_COUNT: Range<usize> = 14..16;
+    pub const TEXTURE_COUNT: Range<usize> = 16..18;
+    pub const INSTANCE_COUNT: Range<usize> = 18..20;
+    pub const LIGHT_COUNT: Range<usize> = 20..22;
+    pub const MESHES: Range<usize> = 24..28;
+    pub const MATERIALS: Range<usize> = 28..32;
+    pub const TEXTURES: Range<usize> = 32..36;
+    pub const INSTANCES: Range<usize> = 36..40;
+    pub const LIGHTS: Range<usize> = 40..44;
+    pub const CAMERA: Range<usize> = 44..48;
+    pub const LEN: usize = 48;
+}
+
+pub(crate) mod mesh {
+    use core::ops::Range;
+    pub const WORLD: Range<usize> = 0..48;
+    pub const POS_OFFSET: Range<usize> = 48..60;
+    pub const POS_SCALE: Range<usize> = 60..72;
+    pub const UV_OFFSET: Range<usize> = 72..80;
+    pub const UV_SCALE: Range<usize> = 80..88;
+    pub const BOUNDS: Range<usize> = 88..104;
+    pub const VERTEX_COUNT: Range<usize> = 104..108;
+    pub const INDEX_COUNT: Range<usize> = 108..112;
+    pub const FLAGS: Range<usize> = 112..114;
+    pub const SUBMESH_COUNT: Range<usize> = 114..116;
+    pub const POSITIONS: Range<usize> = 116..120;
+    pub const NORMALS: Range<usize> = 120..124;
+    pub const UVS: Range<usize> = 124..128;
+    pub const COLORS: Range<usize> = 128..132;
+    pub const INDICES: Range<usize> = 132..136;
+    pub const SUBMESHES: Range<usize> = 136..140;
+    pub const NAME: Range<usize> = 140..144;
+    pub const NAME_LEN: Range<usize> = 144..146;
+    pub const LEN: usize = 148;
+    pub const FLAG_U32_INDICES: u16 = 1;
+    pub const FLAG_UVS: u16 = 2;
+    pub const FLAG_COLORS: u16 = 4;
+    pub const FLAG_F32_POSITIONS: u16 = 8;
+}
+
+pub(crate) mod submesh {
+    use core::ops::Range;
+    pub const MATERIAL: Range<usize> = 0..2;
+    pub const INDEX_START: Range<usize> = 4..8;
+    pub const INDEX_COUNT: Range<usize> = 8..12;
+    pub const LEN: usize = 12;
+}
+
+pub(crate) mod material {
+    use core::ops::Range;
+    pub const RGBA: Range<usize> = 0..4;
+    pub const FLAGS: usize = 4;
+    pub const WRAP_U: usize = 5;
+    pub const WRAP_V: usize = 6;
+    pub const TEXTURE: Range<usize> = 8..10;
+    pub const LEN: usize = 12;
+    pub const FLAG_CULL_BACK: u8 = 1;
+}
+
+pub(crate) mod texture {
+    use core::ops::Range;
+    pub const WIDTH: Range<usize> = 0..2;
+    pub const HEIGHT: Range<usize> = 2..4;
+    pub const FORMAT: usize = 4;
+    pub const DATA: Range<usize> = 8..12;
+    pub const LEN: usize = 12;
+}
+
+pub(crate) mod instance {
+    use core::ops::Range;
+    pub const MESH: Range<usize> = 0..2;
+    pub const WORLD: Range<usize> = 4..52;
+    pub const LEN: usize = 52;
+}
+
+pub(crate) mod light {
+    use core::ops::Range;
+    pub const KIND: usize = 0;
+    pub const VECTOR: Range<usize> = 4..16;
+    pub const DIFFUSE: Range<usize> = 16..28;
+    pub const INTENSITY: Range<usize> = 28..32;
+    pub const LEN: usize = 32;
+}
+
+pub(crate) mod camera {
+    use core::ops::Range;
+    pub const POSITION: Range<usize> = 0..12;
+    pub const TARGET: Range<usize> = 12..24;
+    pub const FOV: Range<usize> = 24..28;
+    pub const NEAR: Range<usize> = 28..32;
+    pub const FAR: Range<usize> = 32..36;
+    pub const LEN: usize = 36;
+}
+
+/// Size in bytes of one quantized position.
+pub(crate) const POSITION_LEN: usize = 6;
+/// Size in bytes of one quantized normal.
+pub(crate) const NORMAL_LEN: usize = 6;
+/// Size in bytes of one quantized UV.
+pub(crate) const UV_LEN: usize = 4;
+/// Size in bytes of one vertex colour.
+pub(crate) const COLOR_LEN: usize = 4;
+/// The quantized value of a normal component of 1.0.
+pub const NORMAL_ONE: f32 = 32767.0;
+/// The largest quantized position or UV value.
+pub const QUANT_MAX: f32 = 65535.0;
+
+/// Texture wrap modes (numbered as Babylon's `wrapU`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    /// Clamp to the edge texel.
+    Clamp = 0,
+    /// Repeat; negative coordinates repeat too.
+    #[default]
+    Repeat = 1,
+    /// Mirror every other repetition.
+    Mirror = 2,
+}
+
+impl Wrap {
+    pub(crate) fn from_u8(v: u8) -> Option<Self> {
+        match v {
+            0 => Some(Self::Clamp),
+            1 => Some(Self::Repeat),
+            2 => Some(Self::Mirror),
+            _ => None,
+        }
+    }
+}
+
+/// Light kinds (numbered as Babylon's light `type`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightKind {
+    /// From a position, no distance falloff.
+    Point = 0,
+    /// Along a direction.
+    Directional = 1,
+    /// Sky/ground ambient along an up direction.
+    Hemispheric = 3,
+}
+
+impl LightKind {
+    pub(crate) fn from_u8(v: u8) -> Option<Self> {
+        match v {
+            0 => Some(Self::Point),
+            1 => Some(Self::Directional),
+            3 => Some(Self::Hemispheric),
+            _ => None,
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Little-endian field readers. They never panic: a read past the end yields zero, and `parse`
+// has checked beforehand that no accessor of a valid `Model` ever reads past the end.
+
+pub(crate) fn bytes_at<const N: usize>(data: &[u8], at: usize) -> [u8; N] {
+    data.get(at..at.wrapping_add(N)).and_then(|s| s.try_into().ok()).unwrap_or([0; N])
+}
+pub(crate) fn u16_at(data: &[u8], at: usize) -> u16 {
+    u16::from_le_bytes(bytes_at(data, at))
+}
+pub(crate) fn i16_at(data: &[u8], at: usize) -> i16 {
+    i16::from_le_bytes(bytes_at(data, at))
+}
+pub(crate) fn u32_at(data: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes(bytes_at(data, at))
+}
+pub(crate) fn f32_at(data: &[u8], at: usize) -> f32 {
+    f32::from_le_bytes(bytes_at(data, at))
+}
+pub(crate) fn u8_at(data: &[u8], at: usize) -> u8 {
+    data.get(at).copied().unwrap_or(0)
+}
+pub(crate) fn vec3_at(data: &[u8], at: usize) -> Vec3 {
+    Vec3::new(f32_at(data, at), f32_at(data, at + 4), f32_at(data, at + 8))
+}
+/// Reads 12 floats: Babylon rows 0..3, columns 0..2, as a glam matrix.
+pub(crate) fn affine_at(data: &[u8], at: usize) -> Mat4 {
+    let row = |r: usize| vec3_at(data, at + r * 12);
+    Mat4::from_cols(row(0).extend(0.0), row(1).extend(0.0), row(2).extend(0.0), row(3).extend(1.0))
+}
