@@ -8,7 +8,7 @@
 //! by the routines below as criterion runs them, so they equal criterion's reported medians.
 //!
 //! Scenes:
-//! 1. the reference Suzanne frame (`soft3d::reference`), textured Gouraud, 240x240 and 640x480;
+//! 1. the reference Suzanne frame (`soft3d::testing::reference`), textured Gouraud, 240x240 and 640x480;
 //! 2. Suzanne flat-shaded, untextured, 240x240 and 640x480;
 //! 3. the teapot asset, Phong, scene lights, 640x480;
 //! 4. fill rate: three full-screen quads (6 triangles) drawn back to front, 640x480;
@@ -37,10 +37,10 @@ use euc::{Pipeline, Target};
 use soft3d::convert::scene::{MaterialData, MeshData, Scene, SubMeshData, TextureData, IDENTITY};
 use soft3d::convert::{emit, EmitOptions};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3};
+use soft3d::testing::math::{normal_matrix, normalize_or_zero, Mat3, Mat4, Vec3};
+use soft3d::testing::reference;
 use soft3d::{
-    reference, Band, Camera, FrameColor, Lights, Model, RenderOptions, RowCache, Shading, Stats, TransformedVertex,
-    TriangleRows,
+    Band, Camera, FrameColor, Lights, Model, RenderOptions, Scratch, Shading, Stats, TransformedVertex, TriangleRows,
 };
 
 const SAMPLE_SIZE: usize = 20;
@@ -184,7 +184,9 @@ impl Frame {
         for (k, (c, z)) in self.color.chunks_mut(chunk).zip(self.depth.chunks_mut(chunk)).enumerate() {
             let mut band = Band::new(c, z, self.width, self.height, k as u16 * rows).expect("band fits the frame");
             band.clear(Rgb565::BLACK);
-            stats += soft3d::draw_model(&mut band, &job.model, job.transform, &job.camera, &job.lights, &job.opts);
+            stats += soft3d::Renderer::new(&job.camera, &job.lights, job.opts)
+                .draw(&mut band, &job.model, job.transform, &mut soft3d::Scratch::none())
+                .unwrap();
         }
         stats
     }
@@ -196,14 +198,14 @@ impl Frame {
         let (triangles, vertices) = job.model.draw_counts();
         self.rows_seen.resize(triangles, TriangleRows::UNKNOWN);
         self.vertices_seen.resize(vertices, TransformedVertex::UNKNOWN);
-        let mut cache = RowCache::with_vertices(&mut self.rows_seen, &mut self.vertices_seen);
+        let mut cache = Scratch::none().with_rows(&mut self.rows_seen).with_vertices(&mut self.vertices_seen);
         let chunk = rows as usize * self.width as usize;
         let mut stats = Stats::default();
         for (k, (c, z)) in self.color.chunks_mut(chunk).zip(self.depth.chunks_mut(chunk)).enumerate() {
             let mut band = Band::new(c, z, self.width, self.height, k as u16 * rows).expect("band fits the frame");
             band.clear(Rgb565::BLACK);
             let (m, t, cam, l, o) = (&job.model, job.transform, &job.camera, &job.lights, &job.opts);
-            stats += soft3d::draw_model_cached(&mut band, m, t, cam, l, o, &mut cache);
+            stats += soft3d::Renderer::new(cam, l, *o).draw(&mut band, m, t, &mut cache).unwrap();
         }
         stats
     }

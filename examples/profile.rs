@@ -3,7 +3,8 @@
 use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
 use soft3d::convert::{emit, EmitOptions};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::{reference, Band, Model};
+use soft3d::testing::reference;
+use soft3d::{Band, Model};
 
 fn main() {
     let arg = |i: usize, d: usize| std::env::args().nth(i).and_then(|a| a.parse().ok()).unwrap_or(d);
@@ -30,13 +31,16 @@ fn main() {
     let mut rows_seen = vec![soft3d::TriangleRows::default(); triangles];
     let mut vertices_seen = vec![soft3d::TransformedVertex::default(); vertices];
     for _ in 0..frames {
-        let mut cache = soft3d::RowCache::with_vertices(&mut rows_seen, &mut vertices_seen);
+        let mut cache = soft3d::Scratch::none().with_rows(&mut rows_seen).with_vertices(&mut vertices_seen);
         for first in (0..h).step_by(rows) {
             let n = rows.min(h - first) * w;
             let mut band = Band::new(&mut color[..n], &mut depth[..n], w as u16, h as u16, first as u16).expect("band");
             band.clear(Rgb565::BLACK);
             let (t, o) = (reference::transform(), soft3d::RenderOptions { shading, ..reference::options() });
-            pixels += soft3d::draw_model_cached(&mut band, &model, t, &camera, &lights, &o, &mut cache).pixels_written;
+            pixels += soft3d::Renderer::new(&camera, &lights, o)
+                .draw(&mut band, &model, t, &mut cache)
+                .unwrap()
+                .pixels_written;
         }
     }
     let per = start.elapsed().as_secs_f64() * 1e3 / frames as f64;

@@ -28,7 +28,7 @@ use embedded_graphics::text::{Baseline, Text};
 use embedded_graphics_simulator::{OutputSettingsBuilder, SimulatorDisplay};
 use soft3d::convert::{emit, EmitOptions};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::math::{Mat4, Vec3};
+use soft3d::testing::math::{Mat4, Vec3};
 use soft3d::{Band, Camera, Filter, Lights, Mode, Model, RenderOptions, Shading, Stats};
 
 /// The display: 240x240, the size of the common ST7789 modules.
@@ -235,10 +235,12 @@ fn render_frame<T: DrawTarget<Color = Rgb565>>(
         let mut band = Band::new(&mut buffers.color[..n], &mut buffers.depth[..n], WIDTH, HEIGHT, first_row)
             .expect("the band buffers hold the tallest band");
         band.clear(BACKGROUND);
-        stats += soft3d::draw_model(&mut band, &scene.model, transform, &scene.camera, &scene.lights, &settings.opts);
+        stats += soft3d::Renderer::new(&scene.camera, &scene.lights, settings.opts)
+            .draw(&mut band, &scene.model, transform, &mut soft3d::Scratch::none())
+            .unwrap();
         // `Band` is a DrawTarget in frame coordinates, and drawing into it cannot fail.
         let Ok(()) = hud.draw(&mut band);
-        soft3d::eg::present(&band, display)?;
+        soft3d::present(&band, display)?;
         first_row += rows;
     }
     Ok(stats)

@@ -5,16 +5,18 @@
 //! band, from meshes stored in the compact [`format`] (`.s3d`) read in place from flash.
 //!
 //! ## Conventions (written once, used everywhere)
-//! These follow Babylon.js (see `spec/babylon-conventions.md` in the repository):
+//! These follow Babylon.js; `docs/conventions.md` in the repository says how Babylon.js itself
+//! does each, with the references:
 //! - **Handedness**: left-handed, +x right, +y up, +z forward (away from an unrotated camera).
 //! - **Matrices**: row vectors, `clip = [x y z 1] · World · View · Projection`. In code we use
 //!   glam's column-major [`glam::Mat4`]; a Babylon `m[16]` is exactly `Mat4::from_cols_array`,
 //!   and `p · M` is `M.transpose() * p`, which glam writes as `M.transpose().mul_vec4(p)`;
-//!   to keep that in one place, [`math::Affine`] and [`math::Matrix`] wrap it.
+//!   `math` keeps every such product in one place.
 //! - **Projection**: `PerspectiveFovLH` with a vertical field of view; NDC z in [-1, 1].
 //! - **Viewport**: `x_px = (x_ndc + 1) · W/2`, `y_px = (1 - y_ndc) · H/2` (y down); pixel
 //!   (column c, row r) is sampled at its centre `(c + 0.5, r + 0.5)`.
-//! - **Snapping**: screen positions are snapped down to the 1/16-pixel grid (28.4 fixed point,
+//! - **Snapping**: screen positions are snapped down to the 1/16-pixel grid (28.4 fixed point, see
+//!   `fixed.rs` for every fixed-point format,
 //!   `floor(x · 16)`) before coverage is decided. (Flooring, not rounding, reproduces the
 //!   reference coverage of the Suzanne frame: 14,457 pixels.)
 //! - **Fill rule**: a pixel centre exactly on an edge belongs to the triangle for which that
@@ -30,7 +32,7 @@
 //!   Where the triangle's (or a run of pixels') range of `1/w` proves affine stepping is
 //!   within a tolerance (1/16 texel; 1/256 of full light; Phong's normals and positions
 //!   1/4096), the rasterizer steps linearly instead of dividing per pixel, adding only
-//!   stepping's rounding of under 2^-16 per pixel (see [`raster::Setup::allow_affine`]).
+//!   stepping's rounding of under 2^-16 per pixel (see `pipeline/raster.rs`, `Setup::allow_affine`).
 #![no_std]
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
@@ -38,25 +40,40 @@
 #[cfg(feature = "std")]
 extern crate std;
 
-pub mod camera;
-pub mod clip;
-pub mod format;
-pub mod math;
-pub mod raster;
-pub mod reference;
-pub mod render;
-pub mod shade;
-pub mod target;
-
-pub use camera::Camera;
-pub use format::{Model, ParseError};
-pub use render::{
-    draw_model, draw_model_cached, Mode, RenderOptions, RowCache, Shading, Stats, TransformedVertex, TriangleRows,
-};
-pub use shade::{Filter, Lights};
-pub use target::{Band, DepthBuffer, DepthCell, DepthValue, FrameColor, NoDepth, Rgb565Be};
+mod camera;
+mod fixed;
+mod format;
+mod light;
+mod math;
+mod pipeline;
+mod target;
+mod texture;
 
 #[cfg(feature = "convert")]
 pub mod convert;
 #[cfg(feature = "embedded-graphics")]
-pub mod eg;
+mod eg;
+
+// The public API, whole: what the caller sets up per frame, the model, the targets, drawing.
+pub use camera::{Camera, CameraError};
+pub use format::{
+    decode_texel, encode_texel, Light, LightKind, Material, Mesh, Model, ParseError, Part, SceneCamera, SubMesh,
+    Texture, TextureFormat, Wrap, MAGIC, NONE, NORMAL_ONE, QUANT_MAX, VERSION,
+};
+pub use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+pub use light::Lights;
+pub use pipeline::{
+    DrawError, DrawOrder, Mode, RenderOptions, Renderer, Scratch, Shading, SortEntry, Stats, TransformedVertex,
+    TriangleRows,
+};
+pub use target::{
+    luma, Band, DepthBuffer, DepthCell, DepthValue, FrameColor, NoDepth, Rgb565Be, TargetError, GUARD_HALF_EXTENT,
+    MAX_DIMENSION,
+};
+pub use texture::Filter;
+
+#[cfg(feature = "embedded-graphics")]
+pub use eg::present;
+
+#[doc(hidden)]
+pub mod testing;

@@ -30,13 +30,13 @@ pub trait FrameColor: Copy {
         let _ = (x, y);
         Self::from_rgb888(rgb)
     }
-    /// An RGB565 texel lit by `light` (16.16 per channel): [`modulate`](crate::shade::modulate)
+    /// An RGB565 texel lit by `light` (16.16 per channel): [`modulate`](crate::texture::modulate)
     /// of the widened texel, converted. RGB565 formats override it with
-    /// [`modulate565`](crate::shade::modulate565), which stays in RGB565 (within one step).
+    /// [`modulate565`](crate::texture::modulate565), which stays in RGB565 (within one step).
     #[inline(always)]
     fn from_lit_rgb565(texel: u16, light: [i32; 3]) -> Self {
         let [r, g, b, _] = crate::format::decode_texel(crate::format::TextureFormat::Rgb565, &texel.to_le_bytes());
-        Self::from_rgb888(crate::shade::modulate([r, g, b], light))
+        Self::from_rgb888(crate::texture::modulate([r, g, b], light))
     }
 }
 
@@ -114,7 +114,7 @@ impl FrameColor for Rgb565 {
     }
     #[inline(always)]
     fn from_lit_rgb565(texel: u16, light: [i32; 3]) -> Self {
-        Rgb565::from(embedded_graphics_core::pixelcolor::raw::RawU16::new(crate::shade::modulate565(texel, light)))
+        Rgb565::from(embedded_graphics_core::pixelcolor::raw::RawU16::new(crate::texture::modulate565(texel, light)))
     }
 }
 
@@ -169,7 +169,7 @@ impl FrameColor for Rgb565Be {
     }
     #[inline(always)]
     fn from_lit_rgb565(texel: u16, light: [i32; 3]) -> Self {
-        Rgb565Be(crate::shade::modulate565(texel, light).to_be_bytes())
+        Rgb565Be(crate::texture::modulate565(texel, light).to_be_bytes())
     }
     #[inline]
     fn to_rgb888(self) -> [u8; 3] {

@@ -1,10 +1,10 @@
 //! Rendering a frame in bands of any height gives exactly the pixels of the whole frame.
 use embedded_graphics_core::pixelcolor::Rgb888;
 use soft3d::convert::{emit, EmitOptions};
-use soft3d::format::Model;
-use soft3d::math::Mat4;
-use soft3d::render::{draw_model_sorted, SortEntry};
-use soft3d::{Band, Camera, Lights, Mode, NoDepth, RenderOptions, RowCache, Shading, TransformedVertex, TriangleRows};
+use soft3d::testing::math::Mat4;
+use soft3d::Model;
+use soft3d::{Band, Camera, Lights, Mode, NoDepth, RenderOptions, Shading, TransformedVertex, TriangleRows};
+use soft3d::{DrawError, DrawOrder, Renderer, Scratch, SortEntry};
 
 mod common;
 use common::{scene, ASSETS};
@@ -24,7 +24,7 @@ fn camera(model: &Model<'_>) -> Camera {
 }
 
 /// Renders the frame in bands of `rows` rows (the last may be shorter): colour and u16 depth.
-/// Bands use a [`RowCache`]: with every vertex cached for 1-row bands, without a vertex cache
+/// Bands use a [`Scratch`]: with every vertex cached for 1-row bands, without a vertex cache
 /// for 7 rows, and with a vertex cache one entry short (the last draw goes uncached) for others.
 fn render(model: &Model<'_>, opts: &RenderOptions, rows: u16) -> (Vec<Rgb888>, Vec<u16>) {
     let (w, h) = (W as usize, H as usize);
@@ -39,18 +39,20 @@ fn render(model: &Model<'_>, opts: &RenderOptions, rows: u16) -> (Vec<Rgb888>, V
     let mut seen = vec![TriangleRows::default(); triangles];
     let mut transformed = vec![TransformedVertex::default(); vertices];
     let mut cache = match rows {
-        1 => RowCache::with_vertices(&mut seen, &mut transformed),
-        7 => RowCache::new(&mut seen),
-        _ => RowCache::with_vertices(&mut seen, &mut transformed[1..]),
+        1 => Scratch::none().with_rows(&mut seen).with_vertices(&mut transformed),
+        7 => Scratch::none().with_rows(&mut seen),
+        _ => Scratch::none().with_rows(&mut seen).with_vertices(&mut transformed[1..]),
     };
     for (k, (c, z)) in color.chunks_mut(rows as usize * w).zip(depth.chunks_mut(rows as usize * w)).enumerate() {
         let mut band = Band::new(c, z, W, H, k as u16 * rows).unwrap();
         band.clear(Rgb888::new(10, 20, 30));
-        // The whole frame uses plain draw_model, bands the row cache: both must agree.
+        // The whole frame uses no scratch, bands the row cache: both must agree.
         if rows == H {
-            soft3d::draw_model(&mut band, model, spin, &cam, &lights, opts);
+            soft3d::Renderer::new(&cam, &lights, *opts)
+                .draw(&mut band, model, spin, &mut soft3d::Scratch::none())
+                .unwrap();
         } else {
-            soft3d::draw_model_cached(&mut band, model, spin, &cam, &lights, opts, &mut cache);
+            soft3d::Renderer::new(&cam, &lights, *opts).draw(&mut band, model, spin, &mut cache).unwrap();
         }
     }
     (color, depth)
@@ -96,24 +98,28 @@ fn painters_mode_bands_match_and_cover_like_the_depth_buffer() {
     let cam = camera(&model);
     let lights = Lights::<4>::from_model(&model);
     let opts = RenderOptions::default();
-    let mut scratch = vec![SortEntry::default(); 966];
-    let paint = |rows: u16, scratch: &mut [SortEntry]| {
+    let painter = Renderer::new(&cam, &lights, RenderOptions { order: DrawOrder::BackToFront, ..opts });
+    let mut entries = vec![SortEntry::default(); 966];
+    let mut scratch = Scratch::none().with_sort(&mut entries);
+    let mut paint = |rows: u16| {
         let mut color = vec![Rgb888::new(0, 0, 0); W as usize * H as usize];
         for (k, c) in color.chunks_mut(rows as usize * W as usize).enumerate() {
             let mut band = Band::new(c, NoDepth, W, H, k as u16 * rows).unwrap();
             band.clear(Rgb888::new(10, 20, 30));
-            draw_model_sorted(&mut band, &model, Mat4::IDENTITY, &cam, &lights, &opts, scratch).unwrap();
+            painter.draw(&mut band, &model, Mat4::IDENTITY, &mut scratch).unwrap();
         }
         color
     };
-    let whole = paint(H, &mut scratch);
-    assert!(paint(16, &mut scratch) == whole);
+    let whole = paint(H);
+    assert!(paint(16) == whole);
     // Same silhouette as the z-buffered frame, and most pixels agree (painter's errors are local).
     let mut zcolor = vec![Rgb888::new(0, 0, 0); W as usize * H as usize];
     let mut depth = vec![0u16; W as usize * H as usize];
     let mut band = Band::new(&mut zcolor[..], &mut depth[..], W, H, 0).unwrap();
     band.clear(Rgb888::new(10, 20, 30));
-    soft3d::draw_model(&mut band, &model, Mat4::IDENTITY, &cam, &lights, &opts);
+    soft3d::Renderer::new(&cam, &lights, opts)
+        .draw(&mut band, &model, Mat4::IDENTITY, &mut soft3d::Scratch::none())
+        .unwrap();
     let bg = Rgb888::new(10, 20, 30);
     let silhouette = whole.iter().zip(&zcolor).filter(|(a, b)| (**a == bg) != (**b == bg)).count();
     let same = whole.iter().zip(&zcolor).filter(|(a, b)| a == b && **a != bg).count();
@@ -124,5 +130,6 @@ fn painters_mode_bands_match_and_cover_like_the_depth_buffer() {
     let mut small = vec![SortEntry::default(); 10];
     let mut color = vec![Rgb888::new(0, 0, 0); W as usize * H as usize];
     let mut band = Band::new(&mut color[..], NoDepth, W, H, 0).unwrap();
-    assert!(draw_model_sorted(&mut band, &model, Mat4::IDENTITY, &cam, &lights, &opts, &mut small).is_err());
+    let result = painter.draw(&mut band, &model, Mat4::IDENTITY, &mut Scratch::none().with_sort(&mut small));
+    assert_eq!(result, Err(DrawError::ScratchTooSmall { needed: 966, given: 10 }));
 }

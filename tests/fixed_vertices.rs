@@ -3,9 +3,10 @@
 //! and rendered frames differ only in pixels whose centres lie that close to an edge.
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use soft3d::convert::{emit, EmitOptions};
-use soft3d::format::Model;
-use soft3d::math::{FixedTransform, Mat4, Vec3, Vec4};
-use soft3d::{reference, Band, Camera, RenderOptions};
+use soft3d::testing::math::{FixedTransform, Mat4, Vec3, Vec4};
+use soft3d::testing::reference;
+use soft3d::Model;
+use soft3d::{Band, Camera, RenderOptions};
 
 mod common;
 use common::{scene, Rng, ASSETS};
@@ -151,7 +152,9 @@ fn reference_frame_with_fixed_vertices_matches_the_f32_frame() {
         band.clear(Rgb888::BLACK);
         let opts = RenderOptions { fixed_vertices, textures, ..reference::options() };
         let cam = reference::camera(W, H);
-        soft3d::draw_model(&mut band, &model, reference::transform(), &cam, &reference::lights(), &opts);
+        soft3d::Renderer::new(&cam, &reference::lights(), opts)
+            .draw(&mut band, &model, reference::transform(), &mut soft3d::Scratch::none())
+            .unwrap();
         (color, depth)
     };
     for textures in [false, true] {

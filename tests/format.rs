@@ -1,7 +1,7 @@
 //! The `.s3d` format: every asset converts, emit and parse agree, bad bytes are rejected.
 use proptest::prelude::*;
 use soft3d::convert::{emit, to_scene, EmitOptions, TextureChoice};
-use soft3d::format::{Model, ParseError, Part, TextureFormat};
+use soft3d::{Model, ParseError, Part, TextureFormat};
 
 mod common;
 use common::{asset, scene, ASSETS};

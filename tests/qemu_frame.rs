@@ -4,7 +4,8 @@ use embedded_graphics_core::pixelcolor::raw::{RawData, RawU16};
 use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
 use soft3d::convert::{emit, EmitOptions};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::{reference, Band, Model, Stats};
+use soft3d::testing::reference;
+use soft3d::{Band, Model, Stats};
 
 /// The firmware's conversion: UV origin at the top, 128-texel texture, exact (f32) positions
 /// or (`float_positions` false, for the fixed-point vertex path) 16-bit ones.
@@ -30,7 +31,9 @@ fn render_with(model: &Model<'_>, rows: u16, opts: &soft3d::RenderOptions) -> (V
     for (k, (c, z)) in color.chunks_mut(rows as usize * w).zip(depth.chunks_mut(rows as usize * w)).enumerate() {
         let mut band = Band::new(c, z, reference::WIDTH, reference::HEIGHT, k as u16 * rows).unwrap();
         band.clear(Rgb565::BLACK);
-        stats += soft3d::draw_model(&mut band, model, reference::transform(), &camera, &lights, opts);
+        stats += soft3d::Renderer::new(&camera, &lights, *opts)
+            .draw(&mut band, model, reference::transform(), &mut soft3d::Scratch::none())
+            .unwrap();
     }
     (color, depth, stats)
 }

@@ -16,10 +16,33 @@
 //! All randomness comes from a seeded SplitMix64 (or proptest's deterministic runner), so every
 //! run tests the same cases.
 
-use soft3d::clip::{clip_triangle, ClipResult, ClipVertex, Planes, Polygon};
-use soft3d::math::Vec4;
-use soft3d::raster::{Fragment, Reject, ScreenVertex, Setup, Window, MAX_VARYINGS, VARYING_FRAC};
-use soft3d::target::{Band, NoDepth, TargetError, GUARD_HALF_EXTENT};
+use soft3d::testing::math::Vec4;
+use soft3d::testing::{clip_triangle, ClipResult, ClipVertex, GuardBand, Polygon};
+use soft3d::testing::{step_varyings, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_VARYINGS, VARYING_FRAC};
+
+/// Every covered pixel of a [`Setup`], one at a time: the spans it hands out, stepped here as the
+/// library's span loop steps them (tests only: the library has one span loop, the shader's).
+trait Pixels<const V: usize> {
+    fn for_each_pixel(&self, subspan: u32, pixel: impl FnMut(i32, i32, u32, &[i32; V]));
+}
+
+impl<const V: usize> Pixels<V> for Setup<V> {
+    fn for_each_pixel(&self, subspan: u32, pixel: impl FnMut(i32, i32, u32, &[i32; V])) {
+        struct Each<F>(F);
+        impl<F: FnMut(i32, i32, u32, &[i32; V]), const V: usize> SpanSink<V> for Each<F> {
+            fn span(&mut self, s: &Span<V>) {
+                let (mut z, mut v) = (s.z, s.v);
+                for x in s.x..s.x + s.len as i32 {
+                    (self.0)(x, s.y, z, &v);
+                    z = z.wrapping_add_signed(s.dz);
+                    step_varyings(&mut v, &s.dv);
+                }
+            }
+        }
+        self.for_each_span(subspan, &mut Each(pixel));
+    }
+}
+use soft3d::{Band, NoDepth, TargetError, GUARD_HALF_EXTENT};
 
 use embedded_graphics_core::pixelcolor::{BinaryColor, Gray8, GrayColor, Rgb565};
 use proptest::prelude::*;
@@ -600,51 +623,6 @@ fn bands_are_bit_identical_to_the_full_frame() {
     println!("bands: {frags} fragments compared per split");
 }
 
-/// A `Fragment` that rejects a pseudo-random subset of pixels in its depth test.
-struct Picky<const V: usize> {
-    tested: Vec<(i32, i32, u32)>,
-    shaded: Vec<Frag<V>>,
-    seed: u64,
-}
-
-impl<const V: usize> Fragment<V> for Picky<V> {
-    fn test(&mut self, x: i32, y: i32, z: u32) -> bool {
-        self.tested.push((x, y, z));
-        let h = (x as u64).wrapping_mul(0x9E37_79B9).wrapping_add((y as u64).wrapping_mul(0x85EB_CA6B)) ^ self.seed;
-        h.wrapping_mul(0xC2B2_AE35) >> 61 != 0
-    }
-    fn shade(&mut self, x: i32, y: i32, z: u32, v: &[i32; V]) {
-        self.shaded.push((x, y, z, *v));
-    }
-}
-
-#[test]
-fn rejected_fragments_do_not_disturb_the_others() {
-    // `for_each_fragment` asks the depth test first and shades only what passes: whatever it
-    // rejects, the surviving pixels get exactly what `for_each_pixel` gives them.
-    let mut rng = Rng::new(0x5EED_000A);
-    let f = Frame { w: 96, h: 64 };
-    let full = full_window(f.w, f.h);
-    let mut shaded = 0;
-    for case in 0..300 {
-        let t = random_triangle(&mut rng, &f);
-        let tri = random_attributes(&mut rng, &t);
-        let subspan = [1, 2, 3, 4, 8, 16][case % 6];
-        let all: Vec<Frag<MAX_VARYINGS>> = fast_frags(&tri, &full, subspan);
-        let Ok(s) = Setup::<MAX_VARYINGS>::new(&tri, &full, false, false) else { continue };
-        let mut picky = Picky { tested: Vec::new(), shaded: Vec::new(), seed: rng.next_u64() };
-        s.for_each_fragment(subspan, &mut picky);
-        let tested: Vec<(i32, i32, u32)> = all.iter().map(|&(x, y, z, _)| (x, y, z)).collect();
-        assert_eq!(picky.tested, tested, "{tri:?}");
-        let expected: Vec<Frag<MAX_VARYINGS>> =
-            all.into_iter().filter(|&(x, y, _, _)| picky.shaded.iter().any(|s| (s.0, s.1) == (x, y))).collect();
-        assert_eq!(picky.shaded, expected, "{tri:?} subspan {subspan}");
-        assert!(picky.shaded.len() <= picky.tested.len());
-        shaded += picky.shaded.len();
-    }
-    println!("fragments: {shaded} shaded after a picky depth test, identical to for_each_pixel");
-}
-
 // ---------------------------------------------------------------------------------------------
 // 4. Perspective-correct varyings
 // ---------------------------------------------------------------------------------------------
@@ -663,11 +641,6 @@ fn exact_varying(tri: &[ScreenVertex; 3], x: i32, y: i32, k: usize) -> f64 {
     (0..3).map(|i| q[i] / s * tri[i].varyings[k] as f64).sum()
 }
 
-/// `allow_affine`: whether a triangle is drawn from affine planes (whole triangle) or from
-/// exact values at adaptively chosen points (per segment), every pixel stays within the
-/// tolerance of the perspective-correct value plus what the exact path itself is off by on
-/// that triangle (its integer weights), plus the stepping's rounding (a unit per pixel of a
-/// segment, and one for the plane's f32 evaluation).
 #[test]
 fn affine_shortcuts_stay_within_their_tolerance() {
     let mut rng = Rng::new(0x5EED_0006);
@@ -863,7 +836,7 @@ fn project(v: &ClipVertex, (hw, hh): (f32, f32)) -> ScreenVertex {
     let inv_w = 1.0 / v.pos.w;
     let x = (v.pos.x * inv_w + 1.0) * hw;
     let y = (1.0 - v.pos.y * inv_w) * hh;
-    let snap = |p: f32| soft3d::math::floor_to_i32(p * 16.0);
+    let snap = |p: f32| soft3d::testing::math::floor_to_i32(p * 16.0);
     ScreenVertex {
         x: snap(x),
         y: snap(y),
@@ -883,7 +856,7 @@ fn clip_and_raster(
     cull: bool,
 ) -> Vec<(i32, i32)> {
     let (w, h) = (width as f32, height as f32);
-    let planes = Planes { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) };
+    let planes = GuardBand { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) };
     let mut poly = Polygon::new();
     let res = clip_triangle(tri, &planes, &mut poly);
     match res {
@@ -1070,7 +1043,7 @@ proptest! {
 fn clip_output_escapes_the_guard_band() {
     let v = |x: f32, y: f32, z: f32, w: f32| ClipVertex { pos: Vec4::new(x, y, z, w), varyings: [0.0; MAX_VARYINGS] };
     let tri = [v(0.0, 0.18978009, 0.0, 0.0), v(0.0, 0.0, 0.0, 3.2383803e23), v(0.0, 0.0, 0.0, 0.01)];
-    let planes = Planes { gx: GUARD_HALF_EXTENT / 0.5, gy: GUARD_HALF_EXTENT / 0.5 };
+    let planes = GuardBand { gx: GUARD_HALF_EXTENT / 0.5, gy: GUARD_HALF_EXTENT / 0.5 };
     let mut poly = Polygon::new();
     assert_eq!(clip_triangle(&tri, &planes, &mut poly), ClipResult::Clipped);
     for p in &poly {
@@ -1099,7 +1072,7 @@ fn tiny_w_inside_the_guard_band_overflows_setup() {
     let win = full_window(64, 48);
     let mut poly = Polygon::new();
     // The vertex is "inside" every plane ...
-    assert_eq!(clip_triangle(&tri, &Planes { gx: 30.0, gy: 40.0 }, &mut poly), ClipResult::Inside);
+    assert_eq!(clip_triangle(&tri, &GuardBand { gx: 30.0, gy: 40.0 }, &mut poly), ClipResult::Inside);
     // ... but does not project to a finite screen position, so the rasterizer refuses it.
     let screen = [project(&tri[0], (32.0, 24.0)), project(&tri[1], (32.0, 24.0)), project(&tri[2], (32.0, 24.0))];
     assert_eq!(Setup::<0>::new(&screen, &win, false, false).err(), Some(Reject::OutsideGuardBand));
@@ -1225,10 +1198,10 @@ mod pipeline {
     use super::*;
     use soft3d::convert::scene::{MaterialData, MeshData, Scene, SubMeshData, IDENTITY};
     use soft3d::convert::{emit, EmitOptions};
-    use soft3d::math::{Mat4, Vec3};
-    use soft3d::render::{draw_model, Mode, RenderOptions, Shading, Stats};
-    use soft3d::shade::{Filter, Lights};
+    use soft3d::testing::math::{Mat4, Vec3};
     use soft3d::{Camera, Model};
+    use soft3d::{Filter, Lights};
+    use soft3d::{Mode, RenderOptions, Shading, Stats};
 
     /// A mesh of triangles given as corner lists (local = world).
     fn mesh(name: &str, tris: &[[[f32; 3]; 3]], material: Option<u16>) -> MeshData {
@@ -1271,7 +1244,9 @@ mod pipeline {
         let mut depth = vec![u16::MAX; color.len()];
         let mut band = Band::new(&mut color[..], &mut depth[..], w, h, 0).unwrap();
         let lights = Lights::<1>::new(Vec3::ONE);
-        let stats = draw_model(&mut band, model, Mat4::IDENTITY, cam, &lights, opts);
+        let stats = soft3d::Renderer::new(cam, &lights, *opts)
+            .draw(&mut band, model, Mat4::IDENTITY, &mut soft3d::Scratch::none())
+            .unwrap();
         (color.iter().map(|c| c.luma()).collect(), stats)
     }
 
@@ -1618,7 +1593,7 @@ mod pipeline {
             {
                 let (c, d) = (&mut color[pad..pad + len], &mut depth[pad..pad + len]);
                 let mut band = Band::new(c, d, width as u16, height as u16, first_row as u16).unwrap();
-                let stats = draw_model(&mut band, &model, Mat4::IDENTITY, &cam, &lights, &opts);
+                let stats = soft3d::Renderer::new(&cam, &lights, opts).draw(&mut band, &model, Mat4::IDENTITY, &mut soft3d::Scratch::none()).unwrap();
                 prop_assert!(stats.pixels_written as usize <= len * 12 * 4);
             }
             prop_assert!(color[..pad].iter().chain(&color[pad + len..]).all(|&c| c == SENTINEL));
@@ -1727,8 +1702,9 @@ mod pipeline {
         let model = Model::parse(&data).unwrap();
         let mut color = [BinaryColor::Off; 16 * 8];
         let mut band = Band::new(&mut color[..], NoDepth, 16, 8, 0).unwrap();
-        let stats =
-            draw_model(&mut band, &model, Mat4::IDENTITY, &pixel_camera(), &Lights::<0>::new(Vec3::ONE), &unlit());
+        let stats = soft3d::Renderer::new(&pixel_camera(), &Lights::<0>::new(Vec3::ONE), unlit())
+            .draw(&mut band, &model, Mat4::IDENTITY, &mut soft3d::Scratch::none())
+            .unwrap();
         let pic: Vec<String> =
             color.chunks(16).map(|row| row.iter().map(|c| if c.is_on() { '1' } else { '.' }).collect()).collect();
         assert_eq!(pic, PLAIN_PICTURE, "{stats:?}");

@@ -18,11 +18,11 @@ use std::f64::consts::PI;
 
 use soft3d::convert::scene::{MaterialData, MeshData, Scene, SubMeshData, TextureData, Wrap as SceneWrap, IDENTITY};
 use soft3d::convert::{emit, EmitOptions, TextureChoice};
-use soft3d::format::{decode_texel, encode_texel, Model, Texture, TextureFormat, Wrap};
-use soft3d::math::{normal_matrix, normalize_or_zero, Mat4, Vec3};
-use soft3d::shade::Sampler;
-use soft3d::target::FrameColor;
-use soft3d::{draw_model, Band, Camera, Filter, Lights, RenderOptions, Rgb565Be, Shading};
+use soft3d::testing::math::{normal_matrix, normalize_or_zero, Mat4, Vec3};
+use soft3d::testing::Sampler;
+use soft3d::FrameColor;
+use soft3d::{decode_texel, encode_texel, Model, Texture, TextureFormat, Wrap};
+use soft3d::{Band, Camera, Filter, Lights, RenderOptions, Rgb565Be, Shading};
 
 use embedded_graphics_core::pixelcolor::{BinaryColor, Gray8, Rgb565, Rgb888, RgbColor};
 use embedded_graphics_core::prelude::IntoStorage;
@@ -182,7 +182,9 @@ fn render<C: FrameColor, const L: usize>(
     let mut depth = vec![0u16; n];
     let mut band = Band::new(&mut color[..], &mut depth[..], w, h, 0).unwrap();
     band.clear(C::from_rgb888(bg));
-    draw_model(&mut band, model, Mat4::IDENTITY, cam, lights, opts);
+    soft3d::Renderer::new(cam, lights, *opts)
+        .draw(&mut band, model, Mat4::IDENTITY, &mut soft3d::Scratch::none())
+        .unwrap();
     Frame { w: w as usize, color, depth }
 }
 

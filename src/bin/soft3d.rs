@@ -7,9 +7,9 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use embedded_graphics_core::pixelcolor::{BinaryColor, Gray8, Rgb565, Rgb888};
 use soft3d::convert::{emit, EmitOptions, TextureChoice};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::format::TextureFormat;
-use soft3d::math::Vec3;
-use soft3d::target::DepthBuffer;
+use soft3d::testing::math::Vec3;
+use soft3d::DepthBuffer;
+use soft3d::TextureFormat;
 use soft3d::{Band, Camera, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Shading, Stats};
 
 #[derive(Parser)]
@@ -422,6 +422,7 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         textures: true,
         dither: args.dither,
         fixed_vertices: args.fixed_vertices,
+        order: soft3d::DrawOrder::AsStored,
         wire_color: matches!(args.mode, ModeArg::SolidWire).then_some([255, 255, 0]),
     };
     if args.bands == 0 || args.bands > height {
@@ -442,7 +443,7 @@ fn render_frame<C: FrameColor + Default>(
     let mut z16 = vec![0u16; w * h];
     let mut zf = vec![0f32; w * h];
     let rows_per_band = h.div_ceil(view.bands as usize);
-    let transform = soft3d::math::Mat4::from_rotation_y(spin);
+    let transform = soft3d::testing::math::Mat4::from_rotation_y(spin);
     let mut stats = Stats::default();
     let bg = C::from_rgb888(view.background);
     for (k, band_color) in color.chunks_mut(rows_per_band * w).enumerate() {
@@ -465,12 +466,14 @@ fn draw_band<C: FrameColor, D: DepthBuffer>(
     view: &View,
     first_row: u16,
     model: &Model<'_>,
-    transform: soft3d::math::Mat4,
+    transform: soft3d::testing::math::Mat4,
     bg: C,
 ) -> Result<Stats> {
     let mut band = Band::new(color, depth, view.width, view.height, first_row).map_err(|e| e.to_string())?;
     band.clear(bg);
-    Ok(soft3d::draw_model(&mut band, model, transform, &view.camera, &view.lights, &view.opts))
+    Ok(soft3d::Renderer::new(&view.camera, &view.lights, view.opts)
+        .draw(&mut band, model, transform, &mut soft3d::Scratch::none())
+        .unwrap())
 }
 
 fn render_any(model: &Model<'_>, view: &View, spin: f32, args: &RenderArgs) -> Result<(Vec<[u8; 3]>, Stats)> {

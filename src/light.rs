@@ -1,6 +1,10 @@
-//! Lighting (per vertex or per face, f32) and texture sampling (per pixel, integers).
+//! Lights, as the caller sets them up per frame ([`Lights`]) and as the pipeline evaluates them:
+//! per vertex or per face in f32 ([`PreparedLights`]), per vertex in integers for FPU-less
+//! targets ([`FixedLights`]), and per pixel in integers for Phong ([`PixelLights`]). It does not
+//! sample textures or combine light with colour (`texture` does).
 //!
-//! The light model is Babylon.js's StandardMaterial diffuse term with specular off:
+//! The light model is Babylon.js's StandardMaterial diffuse term plus an optional Blinn-Phong
+//! specular term ([`Lights::specular`], off by default):
 //! `colour = clamp(ambient + Σ max(0, N·L) · light.diffuse · intensity, 0, 1) · diffuse · texture`
 //! with `L = -direction` (directional), `L = normalize(position - P)` (point, no falloff) and
 //! hemispheric lights contributing `(0.5 + 0.5 N·up) · diffuse · intensity` (ground colour black).
@@ -8,9 +12,9 @@
 
 use heapless::Vec;
 
-use crate::format::{Light, LightKind, Model, Texture, TextureFormat, Wrap};
+use crate::fixed::FDot14;
+use crate::format::{Light, LightKind, Model};
 use crate::math::{clamp01, max, normalize_or_zero, Mat3, Vec3};
-
 /// Ambient light plus up to `N` lights.
 #[derive(Clone, Debug, Default)]
 pub struct Lights<const N: usize> {
@@ -188,8 +192,8 @@ struct FixedLight {
     hemispheric: bool,
     /// `Nᵀ L` in 1.15.
     towards: [i32; 3],
-    /// Diffuse colour times intensity, 2.14 (at most 4).
-    weight: [i32; 3],
+    /// Diffuse colour times intensity (at most 4).
+    weight: [FDot14; 3],
 }
 
 impl<const N: usize> FixedLights<N> {
@@ -310,243 +314,10 @@ pub fn isqrt(n: u64) -> u64 {
     }
 }
 
-/// Texture filtering.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Filter {
-    /// The texel under the sample point: `i = floor(u · W)`.
-    #[default]
-    Nearest,
-    /// Blend of the four texels around `(u · W - 0.5, v · H - 0.5)`.
-    Bilinear,
-}
-
-/// One wrapped axis of a texture.
-#[derive(Clone, Copy, Debug)]
-struct Axis {
-    size: i32,
-    wrap: Wrap,
-    /// `size - 1` for a power-of-two size that repeats (then folding is one AND), else -1.
-    mask: i32,
-}
-
-impl Axis {
-    fn new(size: u16, wrap: Wrap) -> Self {
-        let size = size as i32;
-        let pow2_repeat = wrap == Wrap::Repeat && size & (size - 1) == 0;
-        Axis { size, wrap, mask: if pow2_repeat { size - 1 } else { -1 } }
-    }
-
-    /// Folds texel coordinate `i` into `0..size`.
-    #[inline(always)]
-    fn fold(self, i: i32) -> i32 {
-        if self.mask >= 0 {
-            return i & self.mask;
-        }
-        match self.wrap {
-            Wrap::Repeat => i.rem_euclid(self.size),
-            Wrap::Clamp => i.clamp(0, self.size - 1),
-            Wrap::Mirror => {
-                let m = i.rem_euclid(2 * self.size);
-                if m >= self.size {
-                    2 * self.size - 1 - m
-                } else {
-                    m
-                }
-            }
-        }
-    }
-}
-
-/// Samples a texture with texel coordinates in 16.16 fixed point (`u · W · 65536`).
-#[derive(Clone, Copy, Debug)]
-pub struct Sampler<'a> {
-    texture: Texture<'a>,
-    u: Axis,
-    v: Axis,
-    filter: Filter,
-}
-
-impl<'a> Sampler<'a> {
-    /// A sampler for `texture` with the given wrap modes and filter.
-    #[must_use]
-    pub fn new(texture: Texture<'a>, wrap_u: Wrap, wrap_v: Wrap, filter: Filter) -> Self {
-        Sampler { u: Axis::new(texture.width, wrap_u), v: Axis::new(texture.height, wrap_v), texture, filter }
-    }
-
-    /// Texture width in texels.
-    #[must_use]
-    pub fn width(&self) -> u16 {
-        self.texture.width
-    }
-
-    /// Texture height in texels.
-    #[must_use]
-    pub fn height(&self) -> u16 {
-        self.texture.height
-    }
-
-    /// Whether the texture has an alpha channel (cut-outs).
-    #[must_use]
-    pub fn has_alpha(&self) -> bool {
-        self.texture.format.has_alpha()
-    }
-
-    #[inline(always)]
-    fn texel(&self, i: i32, j: i32) -> [u8; 4] {
-        let (i, j) = (self.u.fold(i) as usize, self.v.fold(j) as usize);
-        let t = &self.texture;
-        let at = j * t.width as usize + i;
-        let b = t.texels;
-        match t.format {
-            TextureFormat::Rgb565 | TextureFormat::Rgba5551 => match b.get(2 * at..2 * at + 2) {
-                Some(s) => crate::format::decode_texel(t.format, s),
-                None => [0; 4],
-            },
-            TextureFormat::Rgb888 => match b.get(3 * at..3 * at + 3) {
-                Some(s) => [s[0], s[1], s[2], 255],
-                None => [0; 4],
-            },
-            TextureFormat::Rgba8888 => match b.get(4 * at..4 * at + 4) {
-                Some(s) => [s[0], s[1], s[2], s[3]],
-                None => [0; 4],
-            },
-        }
-    }
-
-    /// RGBA at texel coordinates `(u, v)` in 16.16 (v counted from the bottom row).
-    #[inline(always)]
-    #[must_use]
-    pub fn sample(&self, u: i32, v: i32) -> [u8; 4] {
-        match self.filter {
-            Filter::Nearest => self.texel(u >> 16, v >> 16),
-            Filter::Bilinear => {
-                // Half a texel back to the texel centres, and half a weight step forward so the
-                // 8-bit weights below are rounded, not truncated.
-                let (u, v) = (u.wrapping_sub((1 << 15) - (1 << 7)), v.wrapping_sub((1 << 15) - (1 << 7)));
-                let (i, j) = (u >> 16, v >> 16);
-                let (fu, fv) = (((u >> 8) & 255) as u32, ((v >> 8) & 255) as u32);
-                let t00 = self.texel(i, j);
-                let t10 = self.texel(i + 1, j);
-                let t01 = self.texel(i, j + 1);
-                let t11 = self.texel(i + 1, j + 1);
-                core::array::from_fn(|k| {
-                    let bottom = t00[k] as u32 * (256 - fu) + t10[k] as u32 * fu;
-                    let top = t01[k] as u32 * (256 - fu) + t11[k] as u32 * fu;
-                    ((bottom * (256 - fv) + top * fv + (1 << 15)) >> 16) as u8
-                })
-            }
-        }
-    }
-}
-
-/// The common texture of small targets, sampled with the fewest operations: RGB565, both
-/// sizes powers of two, repeat on both axes, nearest. Samples exactly what [`Sampler`] does
-/// for such a texture.
-#[derive(Clone, Copy, Debug)]
-pub struct Repeat565<'a> {
-    /// Exactly `width · height` texels, a power of two.
-    texels: &'a [[u8; 2]],
-    u_mask: i32,
-    width_shift: u32,
-}
-
-impl<'a> Repeat565<'a> {
-    /// The fast form of `sampler`, when its texture and modes allow one.
-    #[must_use]
-    pub fn new(sampler: &Sampler<'a>) -> Option<Self> {
-        let t = &sampler.texture;
-        let texels = t.texels.as_chunks::<2>().0;
-        let fits = t.format == TextureFormat::Rgb565
-            && sampler.filter == Filter::Nearest
-            && sampler.u.mask >= 0
-            && sampler.v.mask >= 0
-            && texels.len() == t.width as usize * t.height as usize;
-        fits.then_some(Repeat565 { texels, u_mask: sampler.u.mask, width_shift: t.width.trailing_zeros() })
-    }
-
-    /// RGB at texel coordinates `(u, v)` in 16.16 (black if the texture is short).
-    #[inline(always)]
-    #[must_use]
-    pub fn sample(&self, u: i32, v: i32) -> [u8; 3] {
-        let [r, g, b, _] = crate::format::decode_texel(TextureFormat::Rgb565, &self.texel(u, v).to_le_bytes());
-        [r, g, b]
-    }
-
-    /// The RGB565 texel at texel coordinates `(u, v)` in 16.16 (0 if the texture is short).
-    #[inline(always)]
-    #[must_use]
-    pub fn texel(&self, u: i32, v: i32) -> u16 {
-        // Row bits above the texture wrap away with the final mask (the size is a power of
-        // two), which is also what lets the compiler see that the index is in bounds.
-        let at = (((v >> 16) << self.width_shift) | ((u >> 16) & self.u_mask)) as usize;
-        self.texels.get(at & self.texels.len().wrapping_sub(1)).map_or(0, |b| u16::from_le_bytes(*b))
-    }
-}
-
-/// `texel · light` per channel in RGB565 itself, with `light` in 16.16 clamped to 0..=0xffff as
-/// [`modulate`] does: one rounding (`c · l + 2^15 >> 16` on the 5- or 6-bit channel) instead of
-/// widening to 8 bits, modulating and narrowing again. Within one RGB565 step of that RGB888
-/// path's result (checked exhaustively in the tests), and about a third of its instructions.
-#[inline(always)]
-#[must_use]
-pub fn modulate565(texel: u16, light: [i32; 3]) -> u16 {
-    let t = texel as u32;
-    let scale = |c: u32, k: usize| (c * light[k].clamp(0, 0xffff) as u32 + (1 << 15)) >> 16;
-    (scale(t >> 11, 0) << 11 | scale((t >> 5) & 63, 1) << 5 | scale(t & 31, 2)) as u16
-}
-
-/// `c · light` per channel with `light` in 16.16 (1.0 = 65536), rounded, clamped to 255.
-#[inline(always)]
-#[must_use]
-pub fn modulate(c: [u8; 3], light: [i32; 3]) -> [u8; 3] {
-    core::array::from_fn(|k| {
-        // 65535 gives what 65536 would for every 8-bit c (c·65535 + 2^15 >> 16 == c), and
-        // clamping to 16 bits is one instruction (usat) on Cortex-M.
-        let l = light[k].clamp(0, 0xffff) as u32;
-        ((c[k] as u32 * l + (1 << 15)) >> 16) as u8
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn tex(texels: &[u8], w: u16, h: u16) -> Texture<'_> {
-        Texture { width: w, height: h, format: TextureFormat::Rgba8888, texels }
-    }
-
-    /// Every channel value under every light: the RGB565 modulation is at most one step from
-    /// narrowing the RGB888 one, and equal at full light and at none.
-    #[test]
-    fn modulate565_is_within_one_step_of_the_rgb888_path() {
-        use crate::target::FrameColor;
-        use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
-        let mut differ = 0u32;
-        for (bits, shift) in [(5u32, 11u32), (6, 5), (5, 0)] {
-            for c in 0..1u32 << bits {
-                let texel = (c << shift) as u16;
-                let wide = crate::format::decode_texel(TextureFormat::Rgb565, &texel.to_le_bytes());
-                for l in (-2..=0x10001).step_by(1) {
-                    let light = [l; 3];
-                    let want = Rgb565::from_rgb888(modulate([wide[0], wide[1], wide[2]], light));
-                    let want = [want.r(), want.g(), want.b()];
-                    let got = modulate565(texel, light);
-                    let got = [(got >> 11) as u8, ((got >> 5) & 63) as u8, (got & 31) as u8];
-                    for k in 0..3 {
-                        assert!(got[k].abs_diff(want[k]) <= 1, "c {c} << {shift}, light {l}: {got:?} vs {want:?}");
-                        differ += (got[k] != want[k]) as u32;
-                    }
-                    if l <= 0 || l >= 0xffff {
-                        assert_eq!(got, want, "c {c} << {shift}, light {l}");
-                    }
-                }
-            }
-        }
-        assert!(differ > 0, "the two definitions are expected to differ somewhere");
-    }
-
-    /// Integer vertex light against the f32 one: random rotations, normals and directional and
-    /// hemispheric lights of any colour and intensity up to 4.
     #[test]
     fn fixed_lights_are_within_an_eighth_of_a_step_of_the_f32_ones() {
         let mut state = 0x1234_5678_9abc_def1u64;
@@ -584,25 +355,6 @@ mod tests {
         }
         std::println!("worst difference {worst} of 65536");
         assert!(worst <= 32, "worst {worst} of 65536");
-    }
-
-    #[test]
-    fn negative_uvs_repeat_not_mirror() {
-        // A 4x1 texture with texel values 0, 1, 2, 3 in red.
-        let data: [u8; 16] = [0, 0, 0, 255, 1, 0, 0, 255, 2, 0, 0, 255, 3, 0, 0, 255];
-        let s = Sampler::new(tex(&data, 4, 1), Wrap::Repeat, Wrap::Repeat, Filter::Nearest);
-        // u = -0.1 -> u·W = -0.4 -> floor -1 -> repeats to texel 3 (abs(u % w) would give 0).
-        assert_eq!(s.sample((-0.4 * 65536.0) as i32, 0)[0], 3);
-        assert_eq!(s.sample(5 << 16, 0)[0], 1);
-        let m = Sampler::new(tex(&data, 4, 1), Wrap::Mirror, Wrap::Repeat, Filter::Nearest);
-        assert_eq!(m.sample(4 << 16, 0)[0], 3);
-        assert_eq!(m.sample(-(1 << 16), 0)[0], 0);
-        let c = Sampler::new(tex(&data, 4, 1), Wrap::Clamp, Wrap::Repeat, Filter::Nearest);
-        assert_eq!(c.sample(-(7 << 16), 0)[0], 0);
-        assert_eq!(c.sample(9 << 16, 0)[0], 3);
-        // Non-power-of-two widths wrap too.
-        let odd = Sampler::new(tex(&data[..12], 3, 1), Wrap::Repeat, Wrap::Repeat, Filter::Nearest);
-        assert_eq!(odd.sample(-(1 << 16), 0)[0], 2);
     }
 
     #[test]
@@ -644,12 +396,5 @@ mod tests {
                 assert!((got[k] as f32 / 65536.0 - want[k]).abs() < 1.0 / 512.0, "{got:?} vs {want:?}");
             }
         }
-    }
-
-    #[test]
-    fn modulate_keeps_white_and_black() {
-        assert_eq!(modulate([255, 128, 0], [1 << 16; 3]), [255, 128, 0]);
-        assert_eq!(modulate([255, 128, 0], [0; 3]), [0, 0, 0]);
-        assert_eq!(modulate([255, 255, 255], [1 << 15; 3]), [128, 128, 128]);
     }
 }

@@ -1,4 +1,5 @@
-//! Homogeneous clipping against the near and far planes and the guard band.
+//! Homogeneous clipping against the near and far planes and the guard band, and the outcodes
+//! that classify a triangle for culling and clipping.
 //!
 //! A triangle that crosses a plane is cut to the polygon the plane leaves (at most 3 + 6
 //! vertices, in a fixed-capacity buffer) and drawn as a fan; one wholly outside any view
@@ -7,8 +8,8 @@
 
 use heapless::Vec;
 
+use super::varyings::{ClipVaryings, MAX_VARYINGS};
 use crate::math::Vec4;
-use crate::raster::MAX_VARYINGS;
 
 /// A vertex in clip space with its varyings (in f32 before fixed-point conversion).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -16,7 +17,7 @@ pub struct ClipVertex {
     /// Clip-space position `(x, y, z, w)`.
     pub pos: Vec4,
     /// Attributes interpolated across the triangle.
-    pub varyings: [f32; MAX_VARYINGS],
+    pub varyings: ClipVaryings,
 }
 
 /// The most vertices a clipped triangle can have (3 plus one per plane).
@@ -38,14 +39,14 @@ pub enum ClipResult {
 
 /// Guard-band half extents in clip units: `|x| <= gx·w`, `|y| <= gy·w`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Planes {
+pub struct GuardBand {
     /// Horizontal guard band, >= 1.
     pub gx: f32,
     /// Vertical guard band, >= 1.
     pub gy: f32,
 }
 
-impl Planes {
+impl GuardBand {
     /// Signed distances (inside >= 0) to the six clipping planes.
     #[inline]
     fn distances(&self, p: Vec4) -> [f32; 6] {
@@ -64,27 +65,27 @@ pub const NEEDS_CLIP: u8 = 0x80;
 /// [`NOT_FINITE`], and [`NEEDS_CLIP`]. Computed once per vertex (and kept in the renderer's
 /// vertex cache), so that per triangle culling and clipping decisions are bit operations.
 #[must_use]
-pub fn outcode(p: Vec4, planes: &Planes) -> u8 {
+pub(crate) fn outcode(p: Vec4, guard: &GuardBand) -> u8 {
     #[cfg(soft_float)]
     {
-        outcode_by_keys(p, planes)
+        outcode_by_keys(p, guard)
     }
     #[cfg(not(soft_float))]
     {
-        outcode_by_floats(p, planes)
+        outcode_by_floats(p, guard)
     }
 }
 
 /// [`outcode`] with float arithmetic and comparisons.
 #[cfg_attr(soft_float, allow(dead_code))]
-fn outcode_by_floats(p: Vec4, planes: &Planes) -> u8 {
+fn outcode_by_floats(p: Vec4, guard: &GuardBand) -> u8 {
     if !p.is_finite() {
         return NOT_FINITE;
     }
     let view = [p.z + p.w, p.w - p.z, p.w + p.x, p.w - p.x, p.w + p.y, p.w - p.y];
     let outside = view.iter().enumerate().fold(0, |code, (k, &d)| code | u8::from(d < 0.0) << k);
     // NaN (from overflowing products) counts as outside: cutting copes with it.
-    let clip = !planes.distances(p).iter().all(|&d| d >= 0.0);
+    let clip = !guard.distances(p).iter().all(|&d| d >= 0.0);
     outside | if clip { NEEDS_CLIP } else { 0 }
 }
 
@@ -93,7 +94,7 @@ fn outcode_by_floats(p: Vec4, planes: &Planes) -> u8 {
 /// (a float sum is zero only for opposite operands, and rounding keeps its sign), so only the
 /// guard band's two products are float operations.
 #[cfg_attr(not(soft_float), allow(dead_code))]
-fn outcode_by_keys(p: Vec4, planes: &Planes) -> u8 {
+fn outcode_by_keys(p: Vec4, guard: &GuardBand) -> u8 {
     use crate::math::order_key as key;
     let [x, y, z, w] = p.to_array();
     if [x, y, z, w].iter().any(|c| c.to_bits() & 0x7f80_0000 == 0x7f80_0000) {
@@ -102,61 +103,55 @@ fn outcode_by_keys(p: Vec4, planes: &Planes) -> u8 {
     let (kx, ky, kz, kw, minus_w) = (key(x), key(y), key(z), key(w), key(-w));
     let view = [kz < minus_w, kw < kz, kx < minus_w, kw < kx, ky < minus_w, kw < ky];
     let outside = view.iter().enumerate().fold(0, |code, (k, &out)| code | u8::from(out) << k);
-    let (gx, gy) = (planes.gx * w, planes.gy * w);
+    let (gx, gy) = (guard.gx * w, guard.gy * w);
     let inside = kz >= minus_w && kw >= kz && kx >= key(-gx) && key(gx) >= kx && ky >= key(-gy) && key(gy) >= ky;
     outside | if inside { 0 } else { NEEDS_CLIP }
 }
 
-/// Whether a triangle with these vertex outcodes cannot cover any pixel: all three outside
-/// one view plane, or a coordinate not finite.
-#[inline]
+/// What to do with a triangle whose vertices have the outcodes `codes`: `Outside` when it
+/// cannot cover any pixel (all three outside one view plane, or a coordinate not finite),
+/// `Inside` when no vertex is outside a clipping plane, else `Clipped` (it needs [`cut`]). The
+/// one classification that culling and clipping share.
+#[inline(always)]
 #[must_use]
-pub fn culled([a, b, c]: [u8; 3]) -> bool {
-    a & b & c & OUTSIDE_VIEW != 0 || (a | b | c) & NOT_FINITE != 0
-}
-
-/// Clips triangle `tri` into `out`.
-pub fn clip_triangle(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) -> ClipResult {
-    out.clear();
-    let codes = tri.each_ref().map(|v| outcode(v.pos, planes));
-    if culled(codes) {
-        return ClipResult::Outside;
-    }
-    match classify(tri, codes, MAX_VARYINGS) {
-        ClipResult::Clipped => cut(tri, planes, out),
-        r => r,
-    }
-}
-
-/// What [`clip_triangle`] would do with a triangle with vertex outcodes `codes` that is not
-/// [`culled`] (the renderer checks that before lighting), without cutting it: `Clipped` means
-/// it needs [`cut`]; `Outside` when one of its first `checked` varyings is not finite (the
-/// others are known to be).
-pub(crate) fn classify(tri: &[ClipVertex; 3], codes: [u8; 3], checked: usize) -> ClipResult {
-    if !finite_varyings(&[tri[0].varyings, tri[1].varyings, tri[2].varyings], checked) {
+pub(crate) fn classify([a, b, c]: [u8; 3]) -> ClipResult {
+    if a & b & c & OUTSIDE_VIEW != 0 || (a | b | c) & NOT_FINITE != 0 {
         ClipResult::Outside
-    } else if (codes[0] | codes[1] | codes[2]) & NEEDS_CLIP == 0 {
+    } else if (a | b | c) & NEEDS_CLIP == 0 {
         ClipResult::Inside
     } else {
         ClipResult::Clipped
     }
 }
 
+/// Clips triangle `tri` into `out`: [`classify`], then varyings checked finite, then [`cut`].
+pub fn clip_triangle(tri: &[ClipVertex; 3], guard: &GuardBand, out: &mut Polygon) -> ClipResult {
+    out.clear();
+    let class = classify(tri.each_ref().map(|v| outcode(v.pos, guard)));
+    if class == ClipResult::Outside || !finite_varyings(&tri.each_ref().map(|v| v.varyings), MAX_VARYINGS) {
+        return ClipResult::Outside;
+    }
+    match class {
+        ClipResult::Clipped => cut(tri, guard, out),
+        r => r,
+    }
+}
+
 /// Whether the first `checked` varyings of three vertices are all finite.
 #[inline]
-pub(crate) fn finite_varyings(v: &[[f32; MAX_VARYINGS]; 3], checked: usize) -> bool {
+pub(crate) fn finite_varyings(v: &[ClipVaryings; 3], checked: usize) -> bool {
     // `a · 0` is 0 for every finite `a` and NaN for infinities and NaN: one multiply-add each.
     let junk: f32 = v.iter().flat_map(|v| v.iter().take(checked)).map(|a| a * 0.0).sum();
     junk == 0.0
 }
 
 /// Cuts `tri` by every plane into `out`: `Clipped`, or `Outside` when nothing is left.
-pub(crate) fn cut(tri: &[ClipVertex; 3], planes: &Planes, out: &mut Polygon) -> ClipResult {
+pub(crate) fn cut(tri: &[ClipVertex; 3], guard: &GuardBand, out: &mut Polygon) -> ClipResult {
     out.clear();
     let mut a: Polygon = tri.iter().copied().collect();
     for plane in 0..6 {
         let mut b = Polygon::new();
-        clip_polygon(&a, &mut b, |v| planes.distances(v.pos)[plane]);
+        clip_polygon(&a, &mut b, |v| guard.distances(v.pos)[plane]);
         a = b;
         if a.len() < 3 {
             return ClipResult::Outside;
@@ -204,7 +199,7 @@ mod tests {
 
     #[test]
     fn near_plane_cuts_one_vertex_behind() {
-        let planes = Planes { gx: 4.0, gy: 4.0 };
+        let planes = GuardBand { gx: 4.0, gy: 4.0 };
         let mut out = Polygon::new();
         // Vertex 2 is behind the eye (w < 0): the near plane z >= -w keeps a quad.
         let tri = [v(0.0, 0.0, 0.5, 1.0), v(0.5, 0.0, 0.5, 1.0), v(0.0, 0.5, -2.0, -1.0)];
@@ -215,7 +210,7 @@ mod tests {
 
     #[test]
     fn nan_and_fully_behind_are_outside() {
-        let planes = Planes { gx: 4.0, gy: 4.0 };
+        let planes = GuardBand { gx: 4.0, gy: 4.0 };
         let mut out = Polygon::new();
         let tri = [v(f32::NAN, 0.0, 0.5, 1.0), v(0.5, 0.0, 0.5, 1.0), v(0.0, 0.5, 0.5, 1.0)];
         assert_eq!(clip_triangle(&tri, &planes, &mut out), ClipResult::Outside);
@@ -224,14 +219,14 @@ mod tests {
     }
 
     fn outside_view_or_not_finite(p: [Vec4; 3]) -> bool {
-        culled(p.map(|p| outcode(p, &Planes { gx: 4.0, gy: 4.0 })))
+        classify(p.map(|p| outcode(p, &GuardBand { gx: 4.0, gy: 4.0 }))) == ClipResult::Outside
     }
 
     /// Integer and float outcodes agree: random points of every magnitude and sign, points on
     /// the planes, zeros of both signs and non-finite coordinates.
     #[test]
     fn outcodes_by_keys_equal_outcodes_by_floats() {
-        let planes = Planes { gx: 4.0, gy: 3.0 };
+        let planes = GuardBand { gx: 4.0, gy: 3.0 };
         let mut state = 0x0123_4567_89ab_cdefu64;
         let mut next = || {
             state ^= state << 13;

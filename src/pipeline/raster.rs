@@ -26,37 +26,26 @@
 //! Every value here is a function of the triangle and the pixel only, never of the band being
 //! drawn, so a frame drawn in bands is bit-identical to the frame drawn whole.
 
+use super::varyings::ScreenVaryings;
+use crate::fixed::{
+    depth40_to_30, fdot8_floor, fdot8_round, Depth30, Depth40, FDot16, FDot4, FDot8, DEPTH30_FAR, DEPTH40_ONE,
+};
 use crate::math::{max, min, to_i32};
-
-/// The most varyings a vertex carries.
-pub const MAX_VARYINGS: usize = 8;
-
-/// Fractional bits of varyings in the per-pixel loop.
-pub const VARYING_FRAC: u32 = 16;
-
-/// What the rasterizer calls for each covered pixel.
-pub trait Fragment<const V: usize> {
-    /// Whether the pixel at frame `(x, y)` with depth `z` (0..=2^30) survives (the depth
-    /// test); only then is [`Fragment::shade`] called.
-    fn test(&mut self, x: i32, y: i32, z: u32) -> bool;
-    /// Shades the pixel with its perspective-correct varyings.
-    fn shade(&mut self, x: i32, y: i32, z: u32, varyings: &[i32; V]);
-}
 
 /// A vertex after projection: what the rasterizer needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ScreenVertex {
-    /// x in 1/16 pixel (28.4), image coordinates.
-    pub x: i32,
-    /// y in 1/16 pixel (28.4), image coordinates, y down.
-    pub y: i32,
+    /// x in 1/16 pixel, image coordinates.
+    pub x: FDot4,
+    /// y in 1/16 pixel, image coordinates, y down.
+    pub y: FDot4,
     /// Depth 0 (near) ..= 1 (far): `(z/w + 1) / 2`.
     pub z: f32,
     /// `1 / w`.
     pub inv_w: f32,
     /// Attributes, already in their fixed-point units (16 fractional bits). A [`Setup`] of
     /// `V` varyings uses the first `V`.
-    pub varyings: [i32; MAX_VARYINGS],
+    pub varyings: ScreenVaryings,
 }
 
 /// Rows and columns a triangle may touch: the band, in frame pixel coordinates.
@@ -178,19 +167,19 @@ pub struct Setup<const V: usize> {
     /// Rows of the bounding box below the origin row, unclipped by the band.
     rows_below: i32,
     /// Depth at the origin pixel centre, and per pixel in x and y, 24.40.
-    z_origin: i64,
-    z_dx: i64,
-    z_dy: i64,
+    z_origin: Depth40,
+    z_dx: Depth40,
+    z_dy: Depth40,
     /// 1/w of each vertex divided by the largest (so in (0, 1]).
     inv_w: [f32; 3],
     /// Varyings at vertex 0 and their differences to vertices 1 and 2.
-    v0: [i32; V],
+    v0: [FDot16; V],
     d1: [f32; V],
     d2: [f32; V],
     /// Twice the triangle's area in 1/256 pixel², positive.
     area: i64,
     /// Affine varyings when allowed (see [`Setup::allow_affine`]).
-    affine: Option<Planes<V>>,
+    affine: Option<AffinePlanes<V>>,
     /// Four times the tolerance of each varying (0: no shortcut where `1/w` varies).
     tolerance: [f32; V],
 }
@@ -291,9 +280,8 @@ impl<const V: usize> Setup<V> {
         let (ex1, ey1, ex2, ey2) = ((b.x - a.x) as f32, (b.y - a.y) as f32, (c.x - a.x) as f32, (c.y - a.y) as f32);
         let gx = (dz1 * ey2 - dz2 * ey1) / af; // per 1/16 pixel
         let gy = (dz2 * ex1 - dz1 * ex2) / af;
-        const Z_ONE: f32 = (1u64 << 40) as f32;
         let z_at_origin = a.z + gx * (ox - a.x) as f32 + gy * (oy - a.y) as f32;
-        let to_fixed = |v: f32| crate::math::f32_to_i64(v * Z_ONE);
+        let to_fixed = |v: f32| crate::math::f32_to_i64(v * DEPTH40_ONE);
 
         let max_w = max(max(a.inv_w, b.inv_w), c.inv_w);
         let norm = |q: f32| q / max_w;
@@ -389,7 +377,7 @@ impl<const V: usize> Setup<V> {
         });
         let extent = (self.x1 - self.x0, self.rows_below);
         self.affine =
-            within.then(|| Planes::new(&self.edges, self.area, (&self.v0, &self.d1, &self.d2), extent)).flatten();
+            within.then(|| AffinePlanes::new(&self.edges, self.area, (&self.v0, &self.d1, &self.d2), extent)).flatten();
         self.tolerance = tolerance.map(|t| 4.0 * t as f32);
     }
 
@@ -397,46 +385,6 @@ impl<const V: usize> Setup<V> {
     #[must_use]
     pub fn is_affine(&self) -> bool {
         self.affine.is_some()
-    }
-
-    /// Calls `pixel(x, y, z, varyings)` for every covered pixel centre in the window, row by
-    /// row, left to right. `z` is 0..=2^30. `subspan` (>= 1) is how often along a span the
-    /// varyings are computed exactly; in between they are stepped linearly.
-    #[inline]
-    pub fn for_each_pixel(&self, subspan: u32, pixel: impl FnMut(i32, i32, u32, &[i32; V])) {
-        struct All<F>(F);
-        impl<F: FnMut(i32, i32, u32, &[i32; V]), const V: usize> Fragment<V> for All<F> {
-            #[inline(always)]
-            fn test(&mut self, _: i32, _: i32, _: u32) -> bool {
-                true
-            }
-            #[inline(always)]
-            fn shade(&mut self, x: i32, y: i32, z: u32, v: &[i32; V]) {
-                (self.0)(x, y, z, v);
-            }
-        }
-        self.for_each_fragment(subspan, &mut All(pixel));
-    }
-
-    /// Like [`Setup::for_each_pixel`], but asks `f.test` (the depth test) first and calls
-    /// `f.shade` only for the pixels that pass.
-    #[inline]
-    pub fn for_each_fragment(&self, subspan: u32, f: &mut impl Fragment<V>) {
-        struct Pixels<'f, F>(&'f mut F);
-        impl<F: Fragment<V>, const V: usize> SpanSink<V> for Pixels<'_, F> {
-            #[inline(always)]
-            fn span(&mut self, s: &Span<V>) {
-                let (mut z, mut v) = (s.z, s.v);
-                for x in s.x..s.x + s.len as i32 {
-                    if self.0.test(x, s.y, z) {
-                        self.0.shade(x, s.y, z, &v);
-                    }
-                    z = z.wrapping_add_signed(s.dz);
-                    step_varyings(&mut v, &s.dv);
-                }
-            }
-        }
-        self.for_each_span(subspan, &mut Pixels(f));
     }
 
     /// Hands every covered run of pixels to `sink` as [`Span`]s, row by row, left to right:
@@ -484,7 +432,7 @@ impl<const V: usize> Setup<V> {
     /// the depth is representable; needle triangles with absurd gradients only get clamped
     /// garbage, never a panic.
     #[inline(always)]
-    fn depth_at(&self, x: i32, dy: i32) -> i64 {
+    fn depth_at(&self, x: i32, dy: i32) -> Depth40 {
         self.z_origin.wrapping_add(self.z_dx.wrapping_mul(x as i64)).wrapping_add(self.z_dy.wrapping_mul(dy as i64))
     }
 
@@ -546,22 +494,22 @@ impl<const V: usize> Setup<V> {
     /// leave 0..=2^30 (triangles touching the near or far plane), pixels go one by one, clamped.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn emit(&self, sink: &mut dyn SpanSink<V>, y: i32, xs: i32, xe: i32, z: i64, v: [i32; V], dv: [i32; V]) {
-        let (len, first, x) = (xe - xs, z >> 10, self.x0 + xs);
+    fn emit(&self, sink: &mut dyn SpanSink<V>, y: i32, xs: i32, xe: i32, z: Depth40, v: [FDot16; V], dv: [FDot16; V]) {
+        let (len, first, x) = (xe - xs, depth40_to_30(z), self.x0 + xs);
         // The per-pixel depth step in 2.30, when it fits and keeps the whole run in 0..=2^30.
         let last = |dz: i32| first + dz as i64 * (len - 1) as i64;
-        let stepped = i32::try_from(self.z_dx >> 10)
+        let stepped = i32::try_from(depth40_to_30(self.z_dx))
             .ok()
-            .filter(|&dz| (0..=Z_MAX).contains(&first) && (0..=Z_MAX).contains(&last(dz)));
+            .filter(|&dz| (0..=DEPTH30_FAR).contains(&first) && (0..=DEPTH30_FAR).contains(&last(dz)));
         if let Some(dz) = stepped {
-            sink.span(&Span { y, x, len: len as u32, z: first as u32, dz, v, dv });
+            sink.span(&Span { y, x, len: len as u32, z: first as Depth30, dz, v, dv });
             return;
         }
         // Depth leaves 0..=2^30 somewhere in the run (a triangle touching the near or far
         // plane, or float rounding in a needle triangle's depth plane): pixel by pixel, clamped.
         let mut v = v;
         for k in 0..len {
-            let z = (z.wrapping_add(self.z_dx.wrapping_mul(k as i64)) >> 10).clamp(0, Z_MAX) as u32;
+            let z = depth40_to_30(z.wrapping_add(self.z_dx.wrapping_mul(k as i64))).clamp(0, DEPTH30_FAR) as Depth30;
             sink.span(&Span { y, x: x + k, len: 1, z, dz: 0, v, dv });
             step_varyings(&mut v, &dv);
         }
@@ -576,9 +524,6 @@ pub fn step_varyings<const V: usize>(v: &mut [i32; V], dv: &[i32; V]) {
     }
 }
 
-/// The largest depth value, the far plane: 2^30.
-const Z_MAX: i64 = 1 << 30;
-
 /// A run of covered pixels on one row, with everything needed to step across it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Span<const V: usize> {
@@ -588,14 +533,14 @@ pub struct Span<const V: usize> {
     pub x: i32,
     /// Pixels in the run (>= 1).
     pub len: u32,
-    /// Depth of the first pixel, 0..=2^30.
-    pub z: u32,
+    /// Depth of the first pixel.
+    pub z: Depth30,
     /// Depth step per pixel; `z + k·dz` stays in 0..=2^30 for every `k < len`.
     pub dz: i32,
-    /// Varyings at the first pixel (16 fractional bits).
-    pub v: [i32; V],
+    /// Varyings at the first pixel.
+    pub v: [FDot16; V],
     /// Varying steps per pixel (wrapping adds).
-    pub dv: [i32; V],
+    pub dv: [FDot16; V],
 }
 
 /// What the rasterizer hands runs of covered pixels to (see [`Setup::for_each_span`]).
@@ -610,17 +555,17 @@ pub trait SpanSink<const V: usize> {
 /// arithmetic costs the same on every target, FPU or not, and gives the same value for a pixel
 /// whichever band draws it.
 #[derive(Clone, Copy, Debug)]
-struct Planes<const V: usize> {
+struct AffinePlanes<const V: usize> {
     /// Vertex 0's values; the planes below are relative to them.
-    base: [i32; V],
-    origin: [i32; V],
-    gx: [i32; V],
-    gy: [i32; V],
+    base: [FDot16; V],
+    origin: [FDot8; V],
+    gx: [FDot8; V],
+    gy: [FDot8; V],
     /// `gx` rounded to whole units: the per-pixel step along a row.
-    step: [i32; V],
+    step: [FDot16; V],
 }
 
-impl<const V: usize> Planes<V> {
+impl<const V: usize> AffinePlanes<V> {
     /// The planes through the three vertices' values: the weight of vertex 1 is `E_1 / area`
     /// and of vertex 2 is `E_2 / area` (screen-space barycentrics), computed in f32 (the same
     /// bits on every target). `None` when `origin + gx·x + gy·y` could leave i32 somewhere in
@@ -637,7 +582,7 @@ impl<const V: usize> Planes<V> {
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), edges[1].c as f32 * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), edges[2].c as f32 * inv_area);
         let (w, h) = (width.max(0) as f32, height.max(0) as f32);
-        let mut p = Planes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
+        let mut p = AffinePlanes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
         for k in 0..V {
             let (d1, d2) = (d1[k] * 256.0, d2[k] * 256.0);
             // Relative to vertex 0's value, added back in integers: large values (e.g. world
@@ -650,7 +595,7 @@ impl<const V: usize> Planes<V> {
             }
             // Truncating: under one unit of 2^-8 off.
             let (o, gx, gy) = (to_i32(o), to_i32(gx), to_i32(gy));
-            (p.origin[k], p.gx[k], p.gy[k], p.step[k]) = (o, gx, gy, gx.wrapping_add(128) >> 8);
+            (p.origin[k], p.gx[k], p.gy[k], p.step[k]) = (o, gx, gy, fdot8_round(gx));
         }
         Some(p)
     }
@@ -658,7 +603,7 @@ impl<const V: usize> Planes<V> {
     /// Varyings at column `x`, row `y` from the origin pixel, and the step per pixel.
     #[inline(always)]
     fn at(&self, x: i32, y: i32) -> ([i32; V], [i32; V]) {
-        let v = |k: usize| self.base[k].wrapping_add((self.origin[k] + self.gx[k] * x + self.gy[k] * y) >> 8);
+        let v = |k: usize| self.base[k].wrapping_add(fdot8_floor(self.origin[k] + self.gx[k] * x + self.gy[k] * y));
         (core::array::from_fn(v), self.step)
     }
 }
@@ -669,7 +614,7 @@ mod tests {
 
     #[test]
     fn facing_refuses_a_non_positive_or_non_finite_w() {
-        let v = |x: i32, y: i32, inv_w: f32| ScreenVertex { x, y, z: 0.5, inv_w, varyings: [0; MAX_VARYINGS] };
+        let v = |x: i32, y: i32, inv_w: f32| ScreenVertex { x, y, z: 0.5, inv_w, varyings: [0; 8] };
         let tri = |w: f32| [v(0, 0, 1.0), v(160, 0, 1.0), v(0, 160, w)];
         assert!(facing(&tri(0.5), false, false).is_ok());
         assert!(facing(&tri(f32::MIN_POSITIVE / 2.0), false, false).is_ok(), "subnormal but positive");

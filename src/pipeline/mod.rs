@@ -1,0 +1,460 @@
+//! The pipeline, stage by stage, and its one entry point, [`Renderer::draw`].
+//!
+//! A triangle's path, one file a stage:
+//!
+//! 1. `mod.rs` (here): per frame and per band, the [`Context`]; per mesh, the bounding-sphere
+//!    test and the [`DrawSetup`]; per triangle, the [`Scratch`] row test that skips triangles a
+//!    band cannot touch.
+//! 2. `vertex.rs`: fetch, transform (f32 or fixed-point), light per vertex, project, outcode;
+//!    once a frame per vertex with the vertex cache in [`Scratch`].
+//! 3. `primitive.rs`: cull (outcodes, facing), clip (`clip.rs`), project the clipped polygon,
+//!    fan it, and hand each triangle to the fill or to `line.rs` (wireframe, points).
+//! 4. `raster.rs`: triangle set-up in integers, edge walks row by row, spans with depth and
+//!    varyings (exact, stepped or affine).
+//! 5. `fragment.rs`: the shader variant chosen once per triangle and the span loop (depth test,
+//!    texel, light, store).
+//!
+//! `sort.rs` orders triangles back to front for [`DrawOrder::BackToFront`] (painter's
+//! algorithm); `varyings.rs` names what a vertex carries; `scratch.rs` is the caller's memory
+//! for all of it.
+
+mod clip;
+mod fragment;
+mod line;
+mod primitive;
+pub(crate) mod raster;
+mod scratch;
+mod sort;
+mod varyings;
+mod vertex;
+
+pub use scratch::{Scratch, SortEntry, TransformedVertex, TriangleRows};
+
+pub use clip::{clip_triangle, ClipResult, ClipVertex, GuardBand, Polygon};
+pub use varyings::{MAX_VARYINGS, VARYING_FRAC};
+
+use crate::camera::Camera;
+use crate::format::{Arrays, Material, Mesh, Model};
+use crate::light::{FixedLights, Lights, PixelLights, PreparedLights};
+use crate::math::{normal_matrix, FixedTransform, Mat3, Mat4, Vec3};
+use crate::target::{Band, DepthBuffer, FrameColor, GUARD_HALF_EXTENT};
+use crate::texture::{Filter, Sampler};
+use primitive::draw_triangle;
+use raster::Window;
+
+/// How surfaces are lit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Shading {
+    /// Material colour or texture as is.
+    Unlit,
+    /// One light value per face, from the world-space face normal.
+    Flat,
+    /// Light per vertex, interpolated perspective-correctly.
+    #[default]
+    Gouraud,
+    /// Normal (and position) interpolated per pixel, normalised, and lit per pixel.
+    Phong,
+}
+
+/// What is drawn of each triangle.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Mode {
+    /// Filled triangles.
+    #[default]
+    Solid,
+    /// Edges of the visible (not culled) triangles.
+    Wireframe,
+    /// Vertices of the visible triangles.
+    Points,
+    /// Filled triangles with their edges drawn over them (debug view).
+    SolidWireframe,
+}
+
+/// Per-frame choices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderOptions {
+    /// Lighting.
+    pub shading: Shading,
+    /// Fill, edges or points.
+    pub mode: Mode,
+    /// Texture filtering.
+    pub filter: Filter,
+    /// Varyings are computed exactly every `subspan` pixels along a span and stepped linearly
+    /// in between. 1 (the default) is perspective-correct at every pixel: exact, or stepped
+    /// linearly only where that is provably within 1/16 texel and 1/256 of full light (plus
+    /// stepping's rounding, under 2^-16 per pixel; see `raster::Setup::allow_affine`).
+    pub subspan: u32,
+    /// Whether textures are used (false: material colour only).
+    pub textures: bool,
+    /// Ordered (4x4 Bayer) dithering when the target has fewer than 8 bits per channel.
+    pub dither: bool,
+    /// Vertices transformed in integers ([`FixedTransform`](crate::math::FixedTransform))
+    /// instead of f32: for targets without an FPU (thumbv6m, thumbv7m), where each float
+    /// operation is a library call. Within 1/16 pixel of the f32 transform (see the tests).
+    pub fixed_vertices: bool,
+    /// In which order triangles are drawn (as stored, or back to front for boards without a
+    /// depth buffer).
+    pub order: DrawOrder,
+    /// Colour of wireframe edges in [`Mode::SolidWireframe`] (and of [`Mode::Wireframe`] and
+    /// [`Mode::Points`] when `Some`; `None` uses the material colour there).
+    pub wire_color: Option<[u8; 3]>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            shading: Shading::Gouraud,
+            mode: Mode::Solid,
+            filter: Filter::Nearest,
+            subspan: 1,
+            textures: true,
+            dither: false,
+            fixed_vertices: false,
+            order: DrawOrder::AsStored,
+            wire_color: None,
+        }
+    }
+}
+
+/// What happened during a frame (or band), summed over all draws.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Triangles handed to the pipeline.
+    pub triangles_submitted: u32,
+    /// Triangles skipped because their mesh's bounding sphere is outside the view frustum.
+    pub culled_frustum_mesh: u32,
+    /// Triangles wholly outside a view plane, or with non-finite coordinates.
+    pub culled_frustum: u32,
+    /// Back faces culled.
+    pub culled_back_face: u32,
+    /// Triangles of zero area after snapping.
+    pub culled_degenerate: u32,
+    /// Triangles cut by the near/far/guard planes.
+    pub clipped: u32,
+    /// Triangles (or clipped pieces) that reached the rasterizer with pixels in this band.
+    pub drawn: u32,
+    /// Pixels written.
+    pub pixels_written: u32,
+    /// Fragments rejected by the depth test.
+    pub depth_rejected: u32,
+    /// Triangles skipped because they cannot touch this band: known from a [`RowCache`]
+    /// before any vertex work, or found from their projected rows before lighting.
+    pub outside_band: u32,
+}
+
+impl core::ops::AddAssign for Stats {
+    fn add_assign(&mut self, o: Stats) {
+        self.triangles_submitted += o.triangles_submitted;
+        self.culled_frustum_mesh += o.culled_frustum_mesh;
+        self.culled_frustum += o.culled_frustum;
+        self.culled_back_face += o.culled_back_face;
+        self.culled_degenerate += o.culled_degenerate;
+        self.clipped += o.clipped;
+        self.drawn += o.drawn;
+        self.pixels_written += o.pixels_written;
+        self.depth_rejected += o.depth_rejected;
+        self.outside_band += o.outside_band;
+    }
+}
+
+/// In which order triangles are drawn.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DrawOrder {
+    /// As stored, mesh by mesh: the depth buffer decides what is in front.
+    #[default]
+    AsStored,
+    /// Painter's algorithm, for boards without RAM for a depth buffer: every triangle sorted
+    /// back to front by its farthest vertex (in the [`Scratch`]'s sort entries, one a triangle
+    /// counting instances; no allocation), then drawn in that order. Intersecting or cyclically
+    /// overlapping triangles can show the classic painter's errors; a depth buffer does not.
+    BackToFront,
+}
+
+/// Why [`Renderer::draw`] drew nothing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DrawError {
+    /// [`DrawOrder::BackToFront`] needs one sort entry a triangle (counting instances), and the
+    /// [`Scratch`] has fewer.
+    ScratchTooSmall {
+        /// Entries needed (triangles of all draws).
+        needed: usize,
+        /// Entries given.
+        given: usize,
+    },
+}
+
+impl core::fmt::Display for DrawError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            DrawError::ScratchTooSmall { needed, given } => {
+                write!(f, "back-to-front order needs {needed} scratch sort entries, got {given}")
+            }
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for DrawError {}
+
+/// Draws models into bands: the one way to draw. Holds what is the same for every band of a
+/// frame (camera, lights, options); each [`Renderer::draw`] call draws one model into one band.
+///
+/// ```
+/// use soft3d::{Band, Camera, Lights, Mat4, Model, RenderOptions, Renderer, Scratch, Vec3};
+/// use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
+/// # let bytes = soft3d::testing::cube_s3d();
+/// let model = Model::parse(&bytes)?;
+/// let camera = Camera::perspective(Vec3::new(0.0, 1.0, -4.0), Vec3::ZERO, 0.8, 1.0, 0.1, 100.0)?;
+/// let lights = Lights::<2>::from_model(&model);
+/// let renderer = Renderer::new(&camera, &lights, RenderOptions::default());
+/// let (mut color, mut depth) = ([Rgb565::BLACK; 32 * 8], [0u16; 32 * 8]);
+/// let mut scratch = Scratch::none(); // or with row, vertex and sort memory: see `Scratch`
+/// for first_row in (0..32).step_by(8) {
+///     let mut band = Band::new(&mut color[..], &mut depth[..], 32, 32, first_row)?;
+///     band.clear(Rgb565::BLACK);
+///     let stats = renderer.draw(&mut band, &model, Mat4::IDENTITY, &mut scratch)?;
+///     // send the band to the display
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct Renderer<'f, const L: usize> {
+    camera: &'f Camera,
+    lights: &'f Lights<L>,
+    options: RenderOptions,
+}
+
+impl<'f, const L: usize> Renderer<'f, L> {
+    /// A renderer for one frame (or many: nothing here changes between frames unless you
+    /// change it).
+    #[must_use]
+    pub fn new(camera: &'f Camera, lights: &'f Lights<L>, options: RenderOptions) -> Self {
+        Renderer { camera, lights, options }
+    }
+
+    /// The options it draws with.
+    #[must_use]
+    pub fn options(&self) -> &RenderOptions {
+        &self.options
+    }
+
+    /// Draws every mesh and instance of `model`, each placed by `transform · world`
+    /// (`transform` applied last, e.g. a turntable rotation), into `band`.
+    ///
+    /// `scratch` is the caller's memory for speed and for sorting (see [`Scratch`]):
+    /// [`Scratch::none`] draws correctly with none. A frame drawn in bands of any height is
+    /// bit-identical to the frame drawn whole, with or without scratch memory; start each frame
+    /// with [`Scratch::new_frame`].
+    ///
+    /// # Errors
+    /// [`DrawError::ScratchTooSmall`] with [`DrawOrder::BackToFront`] when the scratch has
+    /// fewer sort entries than the model has triangles (nothing is drawn then).
+    pub fn draw<C: FrameColor, D: DepthBuffer>(
+        &self,
+        band: &mut Band<'_, C, D>,
+        model: &Model<'_>,
+        transform: Mat4,
+        scratch: &mut Scratch<'_>,
+    ) -> Result<Stats, DrawError> {
+        let ctx = Context::new(band, self.camera, self.lights, &self.options);
+        match self.options.order {
+            DrawOrder::AsStored => Ok(draw_all(band, model, transform, &ctx, scratch)),
+            DrawOrder::BackToFront => sort::draw_back_to_front(band, model, transform, &ctx, scratch),
+        }
+    }
+}
+
+/// Per-frame constants shared by every draw.
+pub(crate) struct Context<'l, const L: usize> {
+    pub(crate) vp: Mat4,
+    pub(crate) eye: Vec3,
+    pub(crate) lights: &'l Lights<L>,
+    pub(crate) vertex_lights: PreparedLights<L>,
+    pub(crate) pixel_lights: PixelLights<L>,
+    /// The specular colour in 8 bits (zero: specular off).
+    pub(crate) specular: [u8; 3],
+    /// Vertex lighting needs world positions (point lights or specular); directional and
+    /// hemispheric light alone needs only normals.
+    pub(crate) lit_by_position: bool,
+    pub(crate) opts: RenderOptions,
+    pub(crate) guard: GuardBand,
+    pub(crate) window: Window,
+    pub(crate) half: (f32, f32),
+}
+
+impl<'l, const L: usize> Context<'l, L> {
+    pub(crate) fn new<C, D>(
+        band: &Band<'_, C, D>,
+        camera: &Camera,
+        lights: &'l Lights<L>,
+        opts: &RenderOptions,
+    ) -> Self {
+        let (w, h) = (band.width as f32, band.height as f32);
+        Context {
+            vp: camera.view_projection(),
+            eye: camera.eye,
+            lights,
+            vertex_lights: lights.prepared(),
+            specular: lights.specular.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8),
+            pixel_lights: PixelLights::new(lights),
+            lit_by_position: lights.specular != Vec3::ZERO
+                || lights.lights.iter().any(|l| l.kind == crate::format::LightKind::Point),
+            opts: *opts,
+            guard: GuardBand { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
+            window: Window {
+                width: band.width as i32,
+                row_start: band.first_row as i32,
+                row_end: band.first_row as i32 + band.rows as i32,
+            },
+            half: (w * 0.5, h * 0.5),
+        }
+    }
+
+    pub(crate) fn sampler<'m>(&self, model: &Model<'m>, mesh: &Mesh<'_>, material: &Material) -> Option<Sampler<'m>> {
+        material
+            .texture
+            .filter(|_| self.opts.textures && mesh.has_uvs())
+            .and_then(|t| model.texture(t))
+            .map(|t| Sampler::new(t, material.wrap_u, material.wrap_v, self.opts.filter))
+    }
+}
+
+/// Per-draw constants.
+pub(crate) struct DrawSetup<'a> {
+    pub(crate) mvp: Mat4,
+    pub(crate) model_q: Mat4,
+    pub(crate) normals: Mat3,
+    /// `normals` is a rotation (to 1e-6): stored unit normals stay unit, no normalising.
+    pub(crate) rotation: bool,
+    pub(crate) flip: bool,
+    pub(crate) uv: ([f32; 2], [f32; 2]),
+    pub(crate) mesh: Mesh<'a>,
+    pub(crate) arrays: Arrays<'a>,
+    /// The integer transform and the bounding sphere it maps float positions into, with
+    /// [`RenderOptions::fixed_vertices`].
+    pub(crate) fixed: Option<(FixedTransform, (Vec3, f32))>,
+    /// Gouraud vertex light in integers, with [`RenderOptions::fixed_vertices`] when the lights
+    /// allow it (see [`PreparedLights::fixed`]).
+    pub(crate) fixed_lights: Option<FixedLights<MAX_FIXED_LIGHTS>>,
+}
+
+/// The most lights the fixed-point vertex path evaluates in integers (more: in f32).
+const MAX_FIXED_LIGHTS: usize = 8;
+
+impl<'a> DrawSetup<'a> {
+    pub(crate) fn new<C, D, const L: usize>(
+        _band: &Band<'_, C, D>,
+        ctx: &Context<'_, L>,
+        mesh: Mesh<'a>,
+        world: Mat4,
+    ) -> Self {
+        let model_q = world * mesh.dequantize();
+        let normals = normal_matrix(&world);
+        let (mvp, arrays, sphere) = (ctx.vp * model_q, mesh.arrays(), mesh.bounding_sphere());
+        let fixed = ctx.opts.fixed_vertices.then_some(()).and_then(|()| {
+            let (offset, step) = arrays.int_position_frame(sphere);
+            Some((FixedTransform::new(&mvp, offset, step)?, sphere))
+        });
+        let rotation = crate::math::is_rotation(&normals);
+        let integer_light = ctx.opts.fixed_vertices && rotation && !ctx.lit_by_position;
+        DrawSetup {
+            mvp,
+            fixed,
+            fixed_lights: integer_light.then(|| ctx.vertex_lights.fixed(&normals)).flatten(),
+            model_q,
+            normals,
+            rotation,
+            flip: Mat3::from_mat4(world).determinant() < 0.0,
+            uv: mesh.uv_transform(),
+            arrays,
+            mesh,
+        }
+    }
+}
+
+pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    model: &Model<'_>,
+    mesh: &Mesh<'_>,
+    world: Mat4,
+    (mut rows, mut vertices): (Option<&mut [TriangleRows]>, Option<&mut [TransformedVertex]>),
+) -> Stats {
+    let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
+    if !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
+        stats.culled_frustum_mesh = mesh.triangle_count();
+        if let Some(rows) = rows {
+            rows.fill(TriangleRows::EMPTY);
+        }
+        return stats;
+    }
+    let setup = DrawSetup::new(band, ctx, *mesh, world);
+    for sub in mesh.submeshes() {
+        let material = sub.material.and_then(|m| model.material(m)).unwrap_or_default();
+        let sampler = ctx.sampler(model, mesh, &material);
+        let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
+        let mut draw = |t: u32, stats: &mut Stats| {
+            draw_triangle(band, ctx, &setup, t, &material, sampler.as_ref(), vertices.as_deref_mut(), stats)
+        };
+        match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
+            Some(seen) => {
+                let (start, end) = (ctx.window.row_start, ctx.window.row_end);
+                // Counted in a local: `stats` lives in memory (the draw call borrows it).
+                let mut skipped = 0;
+                for (t, r) in range.zip(seen) {
+                    if r.may_touch(start, end) {
+                        *r = draw(t, &mut stats);
+                    } else {
+                        skipped += 1;
+                    }
+                }
+                stats.outside_band += skipped;
+            }
+            None => range.for_each(|t| {
+                draw(t, &mut stats);
+            }),
+        }
+    }
+    stats
+}
+
+/// Every draw of `model`, with the scratch's rows and vertices for each mesh when they fit.
+fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    model: &Model<'_>,
+    transform: Mat4,
+    ctx: &Context<'_, L>,
+    scratch: &mut Scratch<'_>,
+) -> Stats {
+    let mut stats = Stats::default();
+    let (mut triangles, mut vertices) = (0usize, 0usize);
+    for (mesh, world) in model.draws() {
+        let (nt, nv) = (mesh.triangle_count() as usize, mesh.vertex_count() as usize);
+        let caches = scratch.for_draw(triangles..triangles + nt, vertices..vertices + nv);
+        stats += draw_mesh_with(band, ctx, model, &mesh, transform * world, caches);
+        triangles += nt;
+        vertices += nv;
+    }
+    stats
+}
+
+/// Whether a local-space bounding sphere, placed by `world`, may be inside the view frustum.
+fn sphere_visible(vp: &Mat4, world: &Mat4, (centre, radius): (Vec3, f32)) -> bool {
+    let c = world.transform_point3(centre);
+    let r = radius * crate::math::max_axis_scale(world);
+    let rows = [vp.row(0), vp.row(1), vp.row(2), vp.row(3)];
+    let planes = [
+        rows[3] + rows[0],
+        rows[3] - rows[0],
+        rows[3] + rows[1],
+        rows[3] - rows[1],
+        rows[3] + rows[2],
+        rows[3] - rows[2],
+    ];
+    planes.iter().all(|p| {
+        let n = p.truncate().length();
+        // A NaN anywhere makes `outside` false: draw, and let clipping cull per triangle.
+        let outside = p.truncate().dot(c) + p.w < -r * n;
+        !outside
+    })
+}

@@ -1,0 +1,208 @@
+//! Per-triangle work between the vertices and the rasterizer: cull (outcodes, facing, the band's
+//! rows), clip what crosses a plane (`clip`), project the clipped polygon, fan it into
+//! triangles, and hand each to the fill (`fragment`) or to the wireframe and points (`line`).
+//! It does not transform or light vertices (`vertex` does) or walk pixels (`raster` does).
+
+use super::clip::{classify, cut, finite_varyings, ClipResult, ClipVertex, Polygon, MAX_CLIPPED};
+use super::fragment::fill;
+use super::line::{line, plot};
+use super::raster::{facing, facing_of, Reject, ScreenVertex};
+use super::scratch::{TransformedVertex, TriangleRows};
+use super::varyings::{PixelLit, VertexLit};
+use super::vertex::{cached, clip_position, project, vertex_light, vertex_varyings, Projected};
+use super::{Context, DrawSetup, Mode, Shading, Stats};
+use crate::format::Material;
+use crate::target::{Band, DepthBuffer, FrameColor};
+use crate::texture::Sampler;
+
+/// Draws triangle `t` and returns the rows it can touch (for [`RowCache`]).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    t: u32,
+    material: &Material,
+    sampler: Option<&Sampler<'_>>,
+    vertices: Option<&mut [TransformedVertex]>,
+    stats: &mut Stats,
+) -> TriangleRows {
+    match front_end(ctx, s, (t, vertices), material, sampler, band.height, stats) {
+        Front::Done(rows) => rows,
+        Front::Inside(screen, known) => draw_polygon(band, ctx, s.flip, &screen, known, material, sampler, stats),
+        Front::Clipped(tri) => draw_clipped(band, ctx, s.flip, &tri, material, sampler, stats),
+    }
+}
+
+/// What the per-triangle front end leaves to draw.
+enum Front {
+    /// Nothing to draw in this band; the rows it can touch (for [`RowCache`]).
+    Done(TriangleRows),
+    /// Projected, wholly inside the clipping planes, with what [`facing`] and
+    /// [`TriangleRows::of`] said when known.
+    Inside([ScreenVertex; 3], (Option<i64>, Option<TriangleRows>)),
+    /// Crosses a clipping plane: cut it first.
+    Clipped([ClipVertex; 3]),
+}
+
+/// Fetch, transform, cull, light and classify triangle `t`. Not inlined: its temporaries
+/// leave the stack before the rasterizer runs.
+#[inline(never)]
+fn front_end<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    (t, vertices): (u32, Option<&mut [TransformedVertex]>),
+    material: &Material,
+    sampler: Option<&Sampler<'_>>,
+    height: u16,
+    stats: &mut Stats,
+) -> Front {
+    let idx = s.arrays.triangle(t);
+    let fresh = |i: u32| Projected::new(ctx, clip_position(s, i));
+    let (p, cache) = match vertices {
+        Some(cache) => {
+            (idx.map(|i| cached(ctx, s, cache, i).map_or_else(|| fresh(i), TransformedVertex::projected)), Some(cache))
+        }
+        None => (idx.map(fresh), None),
+    };
+    let class = classify(p.map(|p| p.outcode));
+    if class == ClipResult::Outside {
+        stats.culled_frustum += 1;
+        return Front::Done(TriangleRows::EMPTY);
+    }
+    // Back faces are rejected before any lighting when the triangle is wholly in front of the
+    // eye: projection keeps the winding, and the snapped positions are the ones the rasterizer
+    // gets below, so the decision is the same one it would make.
+    let (mut area, mut known_rows) = (None, None);
+    if p.iter().all(Projected::in_front) {
+        match facing_of(p.map(|p| (p.x, p.y, p.inv_w)), material.cull_back_faces, s.flip) {
+            Err(Reject::BackFace) => {
+                stats.culled_back_face += 1;
+                return Front::Done(TriangleRows::EMPTY);
+            }
+            // Kept for the rasterizer if the triangle is drawn unclipped (same positions).
+            Ok(a) => area = Some(a),
+            Err(_) => {}
+        }
+        // Rows of the unclipped triangle: a superset of what clipping leaves. A triangle that
+        // cannot touch this band is not lit, clipped or set up here (a row cache learns its
+        // rows for the later bands).
+        let rows = TriangleRows::of_ys(p[0].y.min(p[1].y).min(p[2].y), p[0].y.max(p[1].y).max(p[2].y), height);
+        if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
+            stats.outside_band += 1;
+            return Front::Done(rows);
+        }
+        known_rows = Some(rows);
+    }
+    let lights = cache.map(|c| {
+        idx.map(|i| c.get(i as usize).map_or_else(|| vertex_light(ctx, s, i), TransformedVertex::vertex_light))
+    });
+    let varyings = vertex_varyings(ctx, s, &idx, lights, sampler);
+    // Light and specular come from 16-bit integers: only the others can be non-finite.
+    let maybe_not_finite = if ctx.opts.shading == Shading::Phong { PixelLit::LEN } else { VertexLit::LIGHT };
+    if !finite_varyings(&varyings, maybe_not_finite) {
+        stats.culled_frustum += 1;
+        return Front::Done(TriangleRows::EMPTY);
+    }
+    if class == ClipResult::Inside {
+        // Saturating casts: huge UVs clamp instead of wrapping.
+        let screen = core::array::from_fn(|k| p[k].screen_vertex(varyings[k].map(crate::math::to_i32)));
+        return Front::Inside(screen, (area, known_rows));
+    }
+    Front::Clipped(core::array::from_fn(|k| ClipVertex { pos: clip_position(s, idx[k]), varyings: varyings[k] }))
+}
+
+/// Cuts a triangle that crosses a clipping plane and draws what is left. Not inlined: the
+/// polygon buffers stay off the stack of the common, unclipped path.
+#[inline(never)]
+fn draw_clipped<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    flip: bool,
+    tri: &[ClipVertex; 3],
+    material: &Material,
+    sampler: Option<&Sampler<'_>>,
+    stats: &mut Stats,
+) -> TriangleRows {
+    let mut poly = Polygon::new();
+    if cut(tri, &ctx.guard, &mut poly) == ClipResult::Outside {
+        stats.culled_frustum += 1;
+        return TriangleRows::EMPTY;
+    }
+    stats.clipped += 1;
+    let screen: heapless::Vec<ScreenVertex, { MAX_CLIPPED }> = poly.iter().map(|v| project(v, ctx.half)).collect();
+    draw_polygon(band, ctx, flip, &screen, (None, None), material, sampler, stats)
+}
+
+/// Fan triangle `k` (1..len-1) of a convex polygon: the polygon itself when it is a triangle
+/// (no copy).
+#[inline(always)]
+fn fan_triangle(screen: &[ScreenVertex], k: usize, f: impl FnOnce(&[ScreenVertex; 3])) {
+    match <&[ScreenVertex; 3]>::try_from(screen) {
+        Ok(tri) => f(tri),
+        Err(_) => f(&[screen[0], screen[k], screen[k + 1]]),
+    }
+}
+
+/// Draws a projected convex polygon (3 or more vertices) in the current mode and returns the
+/// rows it can touch. `known`: what [`facing`] and [`TriangleRows::of`] gave for these very
+/// positions, when known.
+#[allow(clippy::too_many_arguments)]
+fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    flip: bool,
+    screen: &[ScreenVertex],
+    (area, rows): (Option<i64>, Option<TriangleRows>),
+    material: &Material,
+    sampler: Option<&Sampler<'_>>,
+    stats: &mut Stats,
+) -> TriangleRows {
+    // One facing decision for the whole (convex) polygon, the same in every band.
+    let mut facing_result = area.ok_or(Reject::Empty);
+    if area.is_none() {
+        fan_triangle(screen, 1, |tri| facing_result = facing(tri, material.cull_back_faces, flip));
+    }
+    let area = match facing_result {
+        Ok(a) => a,
+        Err(r) => {
+            if r == Reject::BackFace || screen.len() == 3 {
+                count_reject(r, stats);
+                return TriangleRows::EMPTY;
+            }
+            0
+        }
+    };
+    let mode = ctx.opts.mode;
+    if matches!(mode, Mode::Solid | Mode::SolidWireframe) {
+        for k in 1..screen.len() - 1 {
+            // A triangle's area is the polygon's; fan pieces get their own.
+            let known = (screen.len() == 3).then_some(area);
+            fan_triangle(screen, k, |tri| fill(band, ctx, flip, tri, known, material, sampler, stats));
+        }
+    }
+    if matches!(mode, Mode::Wireframe | Mode::Points | Mode::SolidWireframe) {
+        if mode != Mode::SolidWireframe {
+            stats.drawn += 1;
+        }
+        let rgb = ctx.opts.wire_color.unwrap_or([material.rgba[0], material.rgba[1], material.rgba[2]]);
+        let color = C::from_rgb888(rgb);
+        for k in 0..screen.len() {
+            if mode == Mode::Points {
+                plot(band, &screen[k], color, stats);
+            } else {
+                line(band, &screen[k], &screen[(k + 1) % screen.len()], color, stats);
+            }
+        }
+    }
+    rows.unwrap_or_else(|| TriangleRows::of(screen, band.height))
+}
+
+pub(crate) fn count_reject(r: Reject, stats: &mut Stats) {
+    match r {
+        Reject::BackFace => stats.culled_back_face += 1,
+        Reject::Degenerate => stats.culled_degenerate += 1,
+        Reject::Empty => {}
+        Reject::OutsideGuardBand => stats.culled_frustum += 1,
+    }
+}

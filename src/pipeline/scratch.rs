@@ -1,0 +1,193 @@
+//! The caller's memory for one frame: which rows each triangle touches, every vertex
+//! transformed and lit, and the painter's sort list. All of it is optional ([`Scratch::none`]
+//! draws the same pictures, only slower); none of it is allocated.
+
+use core::ops::Range;
+
+use super::vertex::{Projected, VertexLight};
+use crate::fixed::FDot4;
+use crate::pipeline::raster::ScreenVertex;
+
+/// Memory the caller lends [`Renderer::draw`](super::Renderer::draw), all of it optional:
+/// - rows ([`Scratch::with_rows`], 4 bytes a triangle counting instances): when a frame is drawn
+///   in bands, the bands after the first skip the triangles that cannot touch them before any
+///   vertex work;
+/// - vertices ([`Scratch::with_vertices`], 24 bytes a vertex counting instances, see
+///   [`Model::draw_counts`](crate::Model::draw_counts)): every vertex is transformed, projected
+///   and lit once a frame, however many triangles and bands share it;
+/// - sort entries ([`Scratch::with_sort`], one a triangle): the list
+///   [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront) sorts.
+///
+/// A draw whose rows or vertices do not all fit is drawn without them. Rows and vertices depend
+/// on the camera, transforms and lights: call [`Scratch::new_frame`] (or make a new one) at the
+/// start of every frame, then pass the same scratch for each band.
+pub struct Scratch<'s> {
+    rows: &'s mut [TriangleRows],
+    vertices: &'s mut [TransformedVertex],
+    sort: &'s mut [SortEntry],
+}
+
+impl Scratch<'static> {
+    /// No scratch memory: every band does all the work, and back-to-front order is refused.
+    #[must_use]
+    pub fn none() -> Self {
+        Scratch { rows: &mut [], vertices: &mut [], sort: &mut [] }
+    }
+}
+
+impl<'s> Scratch<'s> {
+    /// Adds a row record of `rows` (reset), one entry a triangle.
+    #[must_use]
+    pub fn with_rows<'t>(self, rows: &'t mut [TriangleRows]) -> Scratch<'t>
+    where
+        's: 't,
+    {
+        rows.fill(TriangleRows::UNKNOWN);
+        Scratch { rows, vertices: self.vertices, sort: self.sort }
+    }
+
+    /// Adds a vertex cache of `vertices` (reset), one entry a vertex.
+    #[must_use]
+    pub fn with_vertices<'t>(self, vertices: &'t mut [TransformedVertex]) -> Scratch<'t>
+    where
+        's: 't,
+    {
+        vertices.fill(TransformedVertex::UNKNOWN);
+        Scratch { rows: self.rows, vertices, sort: self.sort }
+    }
+
+    /// Adds the sort list of [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront), one
+    /// entry a triangle.
+    #[must_use]
+    pub fn with_sort<'t>(self, sort: &'t mut [SortEntry]) -> Scratch<'t>
+    where
+        's: 't,
+    {
+        Scratch { rows: self.rows, vertices: self.vertices, sort }
+    }
+
+    /// Forgets the rows and vertices of the last frame (call at the start of a frame).
+    pub fn new_frame(&mut self) {
+        self.rows.fill(TriangleRows::UNKNOWN);
+        self.vertices.fill(TransformedVertex::UNKNOWN);
+    }
+
+    /// The rows and vertices of one draw, each when it fits.
+    #[inline]
+    pub(crate) fn for_draw(
+        &mut self,
+        triangles: Range<usize>,
+        vertices: Range<usize>,
+    ) -> (Option<&mut [TriangleRows]>, Option<&mut [TransformedVertex]>) {
+        (self.rows.get_mut(triangles), self.vertices.get_mut(vertices))
+    }
+
+    /// The sort list.
+    pub(crate) fn sort_entries(&mut self) -> &mut [SortEntry] {
+        self.sort
+    }
+}
+
+/// One entry of the back-to-front sort list: a triangle and its sort key.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SortEntry {
+    pub(crate) key: u32,
+    pub(crate) draw: u16,
+    pub(crate) triangle: u32,
+}
+
+/// The rows a triangle can touch, learnt in the first band that processes it (see
+/// [`Scratch`]). `UNKNOWN` until then; `EMPTY` for triangles that draw nothing anywhere.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TriangleRows {
+    first: u16,
+    last: u16,
+}
+
+impl Default for TriangleRows {
+    fn default() -> Self {
+        Self::UNKNOWN
+    }
+}
+
+impl TriangleRows {
+    /// Not yet seen this frame.
+    pub const UNKNOWN: TriangleRows = TriangleRows { first: 0, last: u16::MAX };
+    /// Culled: draws nothing in any band.
+    pub const EMPTY: TriangleRows = TriangleRows { first: u16::MAX, last: 0 };
+
+    /// Whether the triangle may touch rows `row_start..row_end`: the one band-bounds test of a
+    /// triangle's rows.
+    #[inline(always)]
+    pub(crate) fn may_touch(&self, row_start: i32, row_end: i32) -> bool {
+        (self.first as i32) < row_end && (self.last as i32) >= row_start
+    }
+
+    /// Rows `floor(min_y)..=floor(max_y)` of the snapped polygon: a superset of the rows whose
+    /// pixel centres it covers and of the rows its wireframe lines and points touch.
+    pub(crate) fn of(screen: &[ScreenVertex], height: u16) -> Self {
+        let ys = || screen.iter().map(|v| v.y);
+        Self::of_ys(ys().min().unwrap_or(0), ys().max().unwrap_or(-1), height)
+    }
+
+    /// [`TriangleRows::of`] the lowest and highest y (28.4).
+    pub(crate) fn of_ys(min: FDot4, max: FDot4, height: u16) -> Self {
+        let (min, max) = (min >> 4, max >> 4);
+        if max < 0 || min >= height as i32 {
+            return Self::EMPTY;
+        }
+        TriangleRows { first: min.max(0) as u16, last: max.min(height as i32 - 1) as u16 }
+    }
+}
+
+/// A vertex projected and lit, computed once a frame (see [`Scratch`]): a [`Projected`] and
+/// a [`VertexLight`] in 24 bytes.
+#[derive(Clone, Copy, Debug)]
+pub struct TransformedVertex {
+    pub(crate) xy: [i32; 2],
+    pub(crate) z: f32,
+    pub(crate) inv_w: f32,
+    pub(crate) light: [u16; 3],
+    /// [`VertexLight`]'s specular / 257.
+    specular: u8,
+    outcode: u8,
+}
+
+const _: () = assert!(core::mem::size_of::<TransformedVertex>() == 24);
+
+impl Default for TransformedVertex {
+    fn default() -> Self {
+        Self::UNKNOWN
+    }
+}
+
+/// The `1/w` of a vertex not transformed yet this frame: +0, so that the empty cache is all zero
+/// bytes (`.bss`, not flash). A vertex whose `1/w` really is +0 (an infinite `w`) is simply
+/// transformed again at each use, with the same result.
+pub(crate) const UNKNOWN_INV_W: u32 = 0;
+
+impl TransformedVertex {
+    /// Not yet transformed this frame.
+    pub const UNKNOWN: TransformedVertex = TransformedVertex {
+        xy: [0; 2],
+        z: 0.0,
+        inv_w: f32::from_bits(UNKNOWN_INV_W),
+        light: [0; 3],
+        specular: 0,
+        outcode: 0,
+    };
+
+    pub(crate) fn new(p: Projected, [r, g, b, specular]: VertexLight) -> Self {
+        let (xy, z, inv_w, outcode) = ([p.x, p.y], p.z, p.inv_w, p.outcode);
+        TransformedVertex { xy, z, inv_w, light: [r, g, b], specular: (specular / 257) as u8, outcode }
+    }
+
+    pub(crate) fn projected(&self) -> Projected {
+        Projected { x: self.xy[0], y: self.xy[1], z: self.z, inv_w: self.inv_w, outcode: self.outcode }
+    }
+
+    pub(crate) fn vertex_light(&self) -> VertexLight {
+        let [r, g, b] = self.light;
+        [r, g, b, self.specular as u16 * 257]
+    }
+}

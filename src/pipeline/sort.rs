@@ -1,0 +1,60 @@
+//! Painter's algorithm: every triangle of a model sorted back to front by its farthest vertex,
+//! then drawn in that order (for boards without RAM for a depth buffer). It does not transform
+//! for drawing or rasterize (`primitive` and `raster` do, as for every order).
+
+use super::primitive::draw_triangle;
+use super::{Context, DrawError, DrawSetup, Scratch, SortEntry, Stats};
+use crate::format::Model;
+use crate::math::Mat4;
+use crate::target::{Band, DepthBuffer, FrameColor};
+
+/// [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront): sorts every triangle back to
+/// front by its farthest vertex in the scratch's sort list, then draws them in that order.
+pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    model: &Model<'_>,
+    transform: Mat4,
+    ctx: &Context<'_, L>,
+    scratch: &mut Scratch<'_>,
+) -> Result<Stats, DrawError> {
+    let scratch = scratch.sort_entries();
+    let needed: usize = model.draws().map(|(m, _)| m.triangle_count() as usize).sum();
+    if scratch.len() < needed || model.draws().count() > u16::MAX as usize {
+        return Err(DrawError::ScratchTooSmall { needed, given: scratch.len() });
+    }
+    let vp = ctx.vp;
+    let mut n = 0;
+    for (d, (mesh, world)) in model.draws().enumerate() {
+        let mvp = vp * transform * world * mesh.dequantize();
+        for t in 0..mesh.triangle_count() {
+            let w = mesh.triangle(t).map(|i| (mvp * mesh.position_stored(i).extend(1.0)).w);
+            let far = w[0].max(w[1]).max(w[2]);
+            // Positive floats order like their bits; NaN and negatives sort as nearest.
+            let key = if far > 0.0 { far.to_bits() } else { 0 };
+            scratch[n] = SortEntry { key, draw: d as u16, triangle: t };
+            n += 1;
+        }
+    }
+    let list = &mut scratch[..n];
+    list.sort_unstable_by_key(|e| core::cmp::Reverse(e.key));
+    let mut stats = Stats::default();
+    let mut current: Option<(u16, DrawSetup<'_>)> = None;
+    for e in list.iter() {
+        if current.as_ref().is_none_or(|(d, _)| *d != e.draw) {
+            current = model
+                .draws()
+                .nth(e.draw as usize)
+                .map(|(mesh, world)| (e.draw, DrawSetup::new(band, ctx, mesh, transform * world)));
+        }
+        let Some((_, setup)) = &current else { continue };
+        stats.triangles_submitted += 1;
+        let sub = setup
+            .mesh
+            .submeshes()
+            .find(|s| (s.first_triangle..s.first_triangle + s.triangle_count).contains(&e.triangle));
+        let material = sub.and_then(|s| s.material).and_then(|m| model.material(m)).unwrap_or_default();
+        let sampler = ctx.sampler(model, &setup.mesh, &material);
+        let _ = draw_triangle(band, ctx, setup, e.triangle, &material, sampler.as_ref(), None, &mut stats);
+    }
+    Ok(stats)
+}

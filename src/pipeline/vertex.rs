@@ -1,0 +1,186 @@
+//! Per-vertex work: fetch a vertex, transform it (f32, or integers on FPU-less targets), light
+//! it (Gouraud), project it to the screen (snapped position, depth, `1/w`, outcode) and build the
+//! varyings a triangle carries to its pixels. With a vertex cache ([`Scratch::with_vertices`](
+//! super::Scratch::with_vertices)) each vertex is done once a frame. It does not decide what is
+//! culled or clipped (`primitive` does).
+
+use super::clip::{outcode, ClipVertex};
+use super::raster::ScreenVertex;
+use super::scratch::{TransformedVertex, UNKNOWN_INV_W};
+use super::varyings::{ClipVaryings, PixelLit, ScreenVaryings, VertexLit, MAX_VARYINGS};
+use super::{Context, DrawSetup, Shading};
+use crate::fixed::{fdot4_floor, FDot4, FDOT16_ONE};
+use crate::math::{normalize_or_zero, Vec3, Vec4};
+use crate::texture::Sampler;
+
+/// Light (red, green, blue) and specular intensity reaching a vertex, 0..=65535 for 0..=1
+/// (the varyings' 16.16 scale, with 1.0 itself saturated: the pixel loop clamps light to
+/// 65535 anyway). Specular has 8 bits (a multiple of 257): it only ever scales an 8-bit
+/// highlight colour.
+pub(crate) type VertexLight = [u16; 4];
+
+/// Quantizes light values in 0..=1 (red, green, blue, specular) to [`VertexLight`].
+pub(crate) fn quantize_light([r, g, b, specular]: [f32; 4]) -> VertexLight {
+    // Saturating, as `as u16` would, in integer code without an FPU.
+    let [r, g, b] = [r, g, b].map(|x| crate::math::to_i32(x * FDOT16_ONE + 0.5).clamp(0, 0xffff) as u16);
+    [r, g, b, crate::math::to_i32(specular * 255.0 + 0.5).clamp(0, 255) as u16 * 257]
+}
+
+/// What the unclipped path needs of a clip-space vertex: its snapped screen position (28.4),
+/// depth (0..=1) and `1/w`, meaningful when `1/w` is positive and finite, and its
+/// [`outcode`]. Triangles that need clipping transform their vertices again.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Projected {
+    pub(crate) x: FDot4,
+    pub(crate) y: FDot4,
+    pub(crate) z: f32,
+    pub(crate) inv_w: f32,
+    pub(crate) outcode: u8,
+}
+
+impl Projected {
+    pub(crate) fn new<const L: usize>(ctx: &Context<'_, L>, clip: Vec4) -> Self {
+        let xy = project_xy(clip, ctx.half);
+        Projected { x: xy.x, y: xy.y, z: depth(clip, xy.inv_w), inv_w: xy.inv_w, outcode: outcode(clip, &ctx.guard) }
+    }
+
+    /// In front of the eye, with a usable (positive, finite) `1/w`.
+    #[inline(always)]
+    pub(crate) fn in_front(&self) -> bool {
+        crate::math::is_positive_finite(self.inv_w)
+    }
+
+    pub(crate) fn screen_vertex(&self, varyings: ScreenVaryings) -> ScreenVertex {
+        ScreenVertex { x: self.x, y: self.y, z: self.z, inv_w: self.inv_w, varyings }
+    }
+}
+
+/// Vertex `i` in clip space.
+pub(crate) fn clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
+    match &s.fixed {
+        Some((t, sphere)) => t.apply(s.arrays.position_int(i, *sphere)),
+        None => s.mvp * s.arrays.position_stored(i).extend(1.0),
+    }
+}
+
+/// Vertex `i` in world space.
+pub(crate) fn world_position(s: &DrawSetup<'_>, i: u32) -> Vec3 {
+    s.model_q.transform_point3(s.arrays.position_stored(i))
+}
+
+/// Vertex `i`'s world-space unit normal.
+pub(crate) fn world_normal(s: &DrawSetup<'_>, i: u32) -> Vec3 {
+    let n = s.normals * s.arrays.normal(i);
+    if s.rotation {
+        n
+    } else {
+        normalize_or_zero(n)
+    }
+}
+
+/// Gouraud light of vertex `i` (zero for the other shadings, which do not use it).
+pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
+    if ctx.opts.shading != Shading::Gouraud {
+        return [0; 4];
+    }
+    if let Some(lights) = &s.fixed_lights {
+        let [r, g, b] = lights.at(s.arrays.normal_q(i));
+        return [r, g, b, 0];
+    }
+    let n = world_normal(s, i);
+    // Directional and hemispheric light need no position.
+    let p = if ctx.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
+    let l = ctx.vertex_lights.at(p, n);
+    quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(p, n, ctx.eye)])
+}
+
+/// Vertex `i` in the frame's cache, transformed and lit on first use (`None` beyond the cache).
+pub(crate) fn cached<'c, const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    cache: &'c mut [TransformedVertex],
+    i: u32,
+) -> Option<&'c TransformedVertex> {
+    let v = cache.get_mut(i as usize)?;
+    if v.inv_w.to_bits() == UNKNOWN_INV_W {
+        *v = TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), vertex_light(ctx, s, i));
+    }
+    Some(v)
+}
+
+/// The triangle's varyings for the shading mode (see the slot constants). `gouraud`: the
+/// vertices' [`vertex_light`]s when already known.
+pub(crate) fn vertex_varyings<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    idx: &[u32; 3],
+    gouraud: Option<[VertexLight; 3]>,
+    sampler: Option<&Sampler<'_>>,
+) -> [ClipVaryings; 3] {
+    let shading = ctx.opts.shading;
+    let world = || idx.map(|i| world_position(s, i));
+    // Light and specular per vertex (unlit, flat, Gouraud) or nothing (Phong lights per pixel).
+    let lit: [VertexLight; 3] = match shading {
+        Shading::Unlit | Shading::Phong => [[u16::MAX, u16::MAX, u16::MAX, 0]; 3],
+        Shading::Flat => {
+            // Face normal from the world-space triangle. Front faces wind counter-clockwise as
+            // seen (y up), and with +z pointing away from the viewer that makes
+            // (p2-p0) x (p1-p0) point towards the viewer, i.e. outward.
+            let p = world();
+            let mut n = normalize_or_zero((p[2] - p[0]).cross(p[1] - p[0]));
+            if s.flip {
+                n = -n;
+            }
+            let centre = (p[0] + p[1] + p[2]) / 3.0;
+            let l = ctx.vertex_lights.at(centre, n);
+            [quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(centre, n, ctx.eye)]); 3]
+        }
+        Shading::Gouraud => gouraud.unwrap_or_else(|| idx.map(|i| vertex_light(ctx, s, i))),
+    };
+    let phong_world = if shading == Shading::Phong { world() } else { [Vec3::ZERO; 3] };
+    let tex_size = sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * FDOT16_ONE, sm.height() as f32 * FDOT16_ONE));
+    core::array::from_fn(|k| {
+        let uv = s.arrays.uv_q(idx[k]);
+        let (o, sc) = s.uv;
+        let mut varyings = [0.0; MAX_VARYINGS];
+        varyings[VertexLit::U] = (o[0] + uv[0] as f32 * sc[0]) * tex_size.0;
+        varyings[VertexLit::V] = (o[1] + uv[1] as f32 * sc[1]) * tex_size.1;
+        if shading == Shading::Phong {
+            let n = world_normal(s, idx[k]);
+            varyings[PixelLit::NORMAL..PixelLit::NORMAL + 3].copy_from_slice(&(n * FDOT16_ONE).to_array());
+            varyings[PixelLit::POSITION..PixelLit::POSITION + 3]
+                .copy_from_slice(&(phong_world[k] * FDOT16_ONE).to_array());
+        } else {
+            let c = s.arrays.color(idx[k]);
+            for ch in 0..3 {
+                // White (no vertex colours) scales by exactly 1: skip the division.
+                let scale = if c[ch] == 255 { 1.0 } else { c[ch] as f32 / 255.0 };
+                varyings[VertexLit::LIGHT + ch] = lit[k][ch] as f32 * scale;
+            }
+            varyings[VertexLit::SPECULAR] = lit[k][3] as f32;
+        }
+        varyings
+    })
+}
+
+/// Clip space to screen: viewport mapping, 1/16-pixel snapping, fixed-point varyings.
+pub(crate) fn project(v: &ClipVertex, half: (f32, f32)) -> ScreenVertex {
+    let xy = project_xy(v.pos, half);
+    // Saturating casts: huge UVs clamp instead of wrapping.
+    ScreenVertex { z: depth(v.pos, xy.inv_w), varyings: v.varyings.map(crate::math::to_i32), ..xy }
+}
+
+/// Depth (0..=1, near to far) of a clip-space point whose `1/w` is `inv_w`.
+#[inline]
+pub(crate) fn depth(clip: Vec4, inv_w: f32) -> f32 {
+    ((clip.z * inv_w + 1.0) * 0.5).clamp(0.0, 1.0)
+}
+
+/// The snapped screen position (28.4) and `1/w` of a clip-space point; no depth or varyings.
+pub(crate) fn project_xy(pos: Vec4, (hw, hh): (f32, f32)) -> ScreenVertex {
+    let inv_w = 1.0 / pos.w;
+    let x = (pos.x * inv_w + 1.0) * hw;
+    let y = (1.0 - pos.y * inv_w) * hh;
+    let snap = fdot4_floor;
+    ScreenVertex { x: snap(x), y: snap(y), z: 0.0, inv_w, varyings: [0; MAX_VARYINGS] }
+}
