@@ -2,7 +2,9 @@
 //!
 //! A `no_std`, allocation-free 3D software rasterizer for microcontrollers. It draws textured,
 //! lit, z-buffered triangle meshes into colour and depth slices that the caller owns, band by
-//! band, from meshes stored in the compact [`format`] (`.s3d`) read in place from flash.
+//! band, from meshes stored in the compact `.s3d` format ([`Model`]) read in place from flash.
+//! Start at [`Renderer`]; `docs/architecture.md` draws the module tree and the path of one
+//! triangle through it.
 //!
 //! ## Conventions (written once, used everywhere)
 //! These follow Babylon.js; `docs/conventions.md` in the repository says how Babylon.js itself

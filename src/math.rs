@@ -49,7 +49,7 @@ pub fn powf(x: f32, y: f32) -> f32 {
 /// `x as i32`: truncated towards zero, saturating, NaN gives 0.
 ///
 /// On targets without an FPU (`eabi` Arm, RISC-V without `f`) in integer code from the bits
-/// ([`split_float`], about 15 instructions), as the soft-float library's conversion and the
+/// (`split_float`, about 15 instructions), as the soft-float library's conversion and the
 /// comparisons around it cost about 100; with an FPU, the hardware conversion.
 #[inline(always)]
 #[must_use]
@@ -235,8 +235,8 @@ fn bits_i64_to_f32(v: i64) -> f32 {
 /// A model-to-clip transform evaluated in integers: the fixed-point vertex path of targets
 /// without an FPU (see [`RenderOptions::fixed_vertices`](crate::RenderOptions)).
 ///
-/// Positions come as integers `q` (`|q| <= 2^15`, see [`format::Arrays::position_int`](
-/// crate::format::Arrays::position_int)). Each output row `i` is `(Σ a_ij·q_j + b_i) / 2^e_i`
+/// Positions come as integers `q` (`|q| <= 2^15`, see
+/// `format::Arrays::position_int`). Each output row `i` is `(Σ a_ij·q_j + b_i) / 2^e_i`
 /// with `a_ij` rounded to integers below 2^30 at the row's own power-of-two scale, so the
 /// coefficients keep 29 or more significant bits whatever the scene's units; the sums are exact
 /// in i64 and rounded to f32 once at the end.

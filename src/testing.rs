@@ -56,7 +56,6 @@ pub fn cube_s3d() -> std::vec::Vec<u8> {
     crate::convert::emit(&scene, &crate::convert::EmitOptions::default()).unwrap_or_default()
 }
 
-/// The reference frame of the benchmarks and the firmware: Suzanne at 240x240.
 pub mod reference {
     //! The reference "Suzanne frame" shared by the benchmarks, the QEMU firmware and the host
     //! comparison test, so that every figure is measured on the same picture:

@@ -1,12 +1,11 @@
 //! What both board firmwares share (included with `#[path]` by `examples/rp2040` and
 //! `examples/stm32f411`): the frame and band geometry, the DMA-ready band buffer, the ST7789
 //! command codes, and the scene — the reference frame's camera, lights and options
-//! (`soft3d::reference`), Suzanne turned by an angle, drawn band by band into `Rgb565Be`
+//! (`soft3d::testing::reference`), Suzanne turned by an angle, drawn band by band into `Rgb565Be`
 //! pixels that go to the display's DMA as they are.
 
-use soft3d::format::Model;
-use soft3d::math::Mat4;
-use soft3d::{reference, Band, Camera, FrameColor, Lights, RenderOptions, Rgb565Be};
+use soft3d::testing::reference;
+use soft3d::{Band, Camera, FrameColor, Lights, Mat4, Model, RenderOptions, Renderer, Rgb565Be, Scratch};
 
 /// Frame width (the ST7789's 240x240).
 pub const WIDTH: u16 = reference::WIDTH;
@@ -113,6 +112,7 @@ impl Scene {
         let mut band = Band::new(color, depth, WIDTH, HEIGHT, first_row).expect("band fits the frame");
         band.clear(self.background);
         let turn = Mat4::from_rotation_y(angle);
-        soft3d::draw_model(&mut band, &self.model, turn, &self.camera, &self.lights, &self.opts);
+        let renderer = Renderer::new(&self.camera, &self.lights, self.opts);
+        renderer.draw(&mut band, &self.model, turn, &mut Scratch::none()).expect("no scratch is needed in stored order");
     }
 }

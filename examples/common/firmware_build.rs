@@ -6,8 +6,8 @@ use std::env;
 use std::fs;
 use std::path::PathBuf;
 
-use soft3d::convert::{build_script_convert, ConvertOptions};
 use soft3d::convert::EmitOptions;
+use soft3d::convert::{build_script_convert, ConvertOptions};
 
 /// Copies `memory.x` where cortex-m-rt's `link.x` INCLUDEs it from, passes `-Tlink.x` and
 /// `extra_link_args`, and converts the Suzanne scene with the given options.

@@ -2,8 +2,8 @@
 //! feature `convert`, as a build-dependency) and puts the linker's memory map where
 //! cortex-m-rt's `link.x` finds it.
 
-use soft3d::convert::{ConvertOptions, UvOrigin};
 use soft3d::convert::EmitOptions;
+use soft3d::convert::{ConvertOptions, UvOrigin};
 
 #[path = "../common/firmware_build.rs"]
 mod firmware_build;

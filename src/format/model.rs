@@ -294,7 +294,7 @@ impl<'a> Model<'a> {
     }
 
     /// Triangles and vertices of everything [`Model::draws`] yields (instances counted again):
-    /// the entries a [`RowCache`](crate::RowCache) needs.
+    /// the entries a [`Scratch`](crate::Scratch) needs.
     #[must_use]
     pub fn draw_counts(&self) -> (usize, usize) {
         self.draws().fold((0, 0), |(t, v), (m, _)| (t + m.triangle_count() as usize, v + m.vertex_count() as usize))

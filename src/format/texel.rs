@@ -45,7 +45,7 @@ impl TextureFormat {
     }
 }
 
-/// A texture of a [`Model`], texels stored bottom row first.
+/// A texture of a [`Model`](crate::Model), texels stored bottom row first.
 #[derive(Clone, Copy, Debug)]
 pub struct Texture<'a> {
     /// Width in texels.

@@ -124,7 +124,7 @@ pub(crate) fn classify([a, b, c]: [u8; 3]) -> ClipResult {
     }
 }
 
-/// Clips triangle `tri` into `out`: [`classify`], then varyings checked finite, then [`cut`].
+/// Clips triangle `tri` into `out`: `classify`, then varyings checked finite, then `cut`.
 pub fn clip_triangle(tri: &[ClipVertex; 3], guard: &GuardBand, out: &mut Polygon) -> ClipResult {
     out.clear();
     let class = classify(tri.each_ref().map(|v| outcode(v.pos, guard)));

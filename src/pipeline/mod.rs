@@ -137,7 +137,7 @@ pub struct Stats {
     pub pixels_written: u32,
     /// Fragments rejected by the depth test.
     pub depth_rejected: u32,
-    /// Triangles skipped because they cannot touch this band: known from a [`RowCache`]
+    /// Triangles skipped because they cannot touch this band: known from a [`Scratch`]
     /// before any vertex work, or found from their projected rows before lighting.
     pub outside_band: u32,
 }

@@ -15,7 +15,7 @@ use crate::format::Material;
 use crate::target::{Band, DepthBuffer, FrameColor};
 use crate::texture::Sampler;
 
-/// Draws triangle `t` and returns the rows it can touch (for [`RowCache`]).
+/// Draws triangle `t` and returns the rows it can touch (for [`Scratch`](super::Scratch)).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
@@ -36,7 +36,7 @@ pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
 
 /// What the per-triangle front end leaves to draw.
 enum Front {
-    /// Nothing to draw in this band; the rows it can touch (for [`RowCache`]).
+    /// Nothing to draw in this band; the rows it can touch (for [`Scratch`](super::Scratch)).
     Done(TriangleRows),
     /// Projected, wholly inside the clipping planes, with what [`facing`] and
     /// [`TriangleRows::of`] said when known.

@@ -140,8 +140,8 @@ impl TriangleRows {
     }
 }
 
-/// A vertex projected and lit, computed once a frame (see [`Scratch`]): a [`Projected`] and
-/// a [`VertexLight`] in 24 bytes.
+/// A vertex projected and lit, computed once a frame (see [`Scratch`]): its snapped
+/// position, depth, `1/w`, outcode, light and specular intensity in 24 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct TransformedVertex {
     pub(crate) xy: [i32; 2],

@@ -21,7 +21,7 @@ use crate::fixed::FDot16;
 /// The most varyings a vertex carries (the Phong layout).
 pub const MAX_VARYINGS: usize = 8;
 
-/// Fractional bits of varyings in the span loop ([`FDot16`]).
+/// Fractional bits of varyings in the span loop (16.16).
 pub const VARYING_FRAC: u32 = 16;
 
 /// The varyings of one vertex before projection (f32, in [`FDot16`] units).

@@ -33,7 +33,7 @@ use semihosting::io::Write as _;
 use semihosting::{eprintln, println, process};
 use serde::Serialize;
 use soft3d::testing::reference;
-use soft3d::{Band, Model, RenderOptions, RowCache, Stats, TransformedVertex, TriangleRows};
+use soft3d::{Band, Model, RenderOptions, Renderer, Scratch, Stats, TransformedVertex, TriangleRows};
 
 /// The reference scene, converted at build time (see build.rs).
 static SUZANNE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
@@ -114,6 +114,7 @@ fn run() -> Result<(), &'static str> {
     // FPU-less builds (thumbv6m) transform vertices in integers (see RenderOptions).
     let opts = RenderOptions { fixed_vertices: cfg!(target_abi = "eabi"), ..reference::options() };
     let transform = reference::transform();
+    let renderer = Renderer::new(&camera, &lights, opts);
 
     let mut stats = Stats::default();
     let mut covered = 0u32;
@@ -126,7 +127,7 @@ fn run() -> Result<(), &'static str> {
         covered = 0;
         // Rows each triangle covers, learnt in the first band it is drawn in, so that later
         // bands skip it before any vertex work; each vertex transformed and lit once.
-        let mut cache = soft3d::Scratch::none().with_rows(&mut rows_seen[..]).with_vertices(&mut vertices_seen[..]);
+        let mut cache = Scratch::none().with_rows(&mut rows_seen[..]).with_vertices(&mut vertices_seen[..]);
         for b in 0..BANDS {
             let first_row = (b * BAND_ROWS) as u16;
             {
@@ -135,7 +136,7 @@ fn run() -> Result<(), &'static str> {
                 band.clear(Rgb565::BLACK);
                 // Instrumentation in the first frame only: it cancels out of the per-frame count.
                 let painted = (frame == 1).then(|| repaint_free_stack(&mut firmware_stack));
-                stats += soft3d::Renderer::new(&camera, &lights, opts).draw(&mut band, &model, transform, &mut cache).unwrap();
+                stats += renderer.draw(&mut band, &model, transform, &mut cache).map_err(|_| "draw refused")?;
                 if let Some((sp, from)) = painted {
                     core_stack = core_stack.max(sp.saturating_sub(lowest_touched_stack(from)) as u32);
                 }

@@ -277,7 +277,7 @@ mod dual {
 
     use super::*;
 
-    /// Core 1's stack: 16 KiB (draw_model needs about 4 KiB on thumbv6m).
+    /// Core 1's stack: 16 KiB (a draw needs about 4 KiB on thumbv6m).
     static CORE1_STACK: Stack<4096> = Stack::new();
 
     impl BandBuf {
