@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Where a firmware's instructions go, by pipeline stage.
+"""Where a firmware's instructions go, by pipeline stage (the keys name src/pipeline/ files and functions).
 
 Usage: mcu-profile.py ELF1 PROF1 ELF2 PROF2 COVERED
   ELFn/PROFn: the firmware rendering n frames and its per-address instruction counts
@@ -14,15 +14,15 @@ import subprocess
 import sys
 
 STAGES = [
-    ("pixel loop (depth test, texel, light, store)", ["SpanSink"]),
-    ("rows and spans (edges, plane or exact varyings per run)", ["for_each_span"]),
+    ("pixel loop (depth test, texel, light, store)", ["SpanSink", "fragment::lit_fragment"]),
+    ("rows and spans (edges, plane or exact varyings per run)", ["for_each_span", "raster::Setup<_>::emit"]),
     ("triangle set-up (edges, depth plane, affine test)", ["Setup", "raster::facing"]),
     ("lighting per vertex", ["Lights", "sqrtf"]),
     ("clipping and projection", ["clip_triangle", "clip::classify", "clip::cut", "draw_clipped", "project",
-                                 "clip::outcode", "clip::culled", "Projected"]),
-    ("vertex fetch, transform, culling, fan-out", ["draw_triangle", "front_end", "vertex_varyings", "draw_polygon", "fill_with",
-                                                     "format::Mesh", "format::Arrays", "TriangleRows", "fill", "draw_mesh_with",
-                                                     "draw_all"]),
+                                 "clip::outcode", "Projected"]),
+    ("vertex fetch, transform, culling, fan-out", ["pipeline::primitive", "pipeline::vertex", "fragment::fill",
+                                                     "format::mesh", "pipeline::scratch", "pipeline::draw_mesh_with",
+                                                     "pipeline::draw_all", "Renderer", "fill"]),
     ("band clear", ["Band", "clear", "memset", "memclr"]),
     ("memcpy", ["memcpy"]),
 ]
