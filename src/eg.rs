@@ -41,13 +41,10 @@ impl<C: FrameColor + PixelColor, D: DepthBuffer> DrawTarget for Band<'_, C, D> {
     where
         I: IntoIterator<Item = Pixel<C>>,
     {
-        let (w, first, rows) = (self.width as i32, self.first_row as i32, self.rows as i32);
+        let area = self.area();
         for Pixel(p, c) in pixels {
-            let row = p.y - first;
-            if p.x >= 0 && p.x < w && row >= 0 && row < rows {
-                if let Some(px) = self.color.get_mut((row * w + p.x) as usize) {
-                    *px = c;
-                }
+            if let Some(px) = area.run_start(p.x, p.y, 1).and_then(|i| self.color.get_mut(i)) {
+                *px = c;
             }
         }
         Ok(())

@@ -449,6 +449,36 @@ impl<'a, C: FrameColor, D: DepthBuffer> Band<'a, C, D> {
     pub fn depth(&mut self) -> &mut D {
         &mut self.depth
     }
+
+    /// Where this band lies in its frame (for [`BandArea::run_start`]).
+    #[inline(always)]
+    pub(crate) fn area(&self) -> BandArea {
+        BandArea { width: self.width as usize, rows: self.rows as usize, first_row: self.first_row as i32 }
+    }
+}
+
+/// Where a band lies in its frame: the one test of whether pixels are inside a band, shared by
+/// the span loop, lines and points, and embedded-graphics drawing.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BandArea {
+    width: usize,
+    rows: usize,
+    first_row: i32,
+}
+
+impl BandArea {
+    /// The index in the band's slices of the first of the `len` pixels that start at frame
+    /// pixel `(x, y)` and run right along its row, when all of them are inside the band.
+    #[inline(always)]
+    pub(crate) fn run_start(&self, x: i32, y: i32, len: usize) -> Option<usize> {
+        // In u32, where nothing can overflow (widths and rows are at most MAX_DIMENSION);
+        // a negative x or row becomes a huge value and fails the comparisons.
+        let (row, x) = (y.wrapping_sub(self.first_row) as u32 as usize, x as u32 as usize);
+        if row >= self.rows || x >= self.width || len > self.width - x {
+            return None;
+        }
+        Some(row * self.width + x)
+    }
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@ use crate::fixed::FDot16;
 
 use crate::format::Material;
 use crate::light::PixelLights;
-use crate::target::{Band, DepthBuffer, DepthCell, FrameColor};
+use crate::target::{Band, BandArea, DepthBuffer, DepthCell, FrameColor};
 use crate::texture::{modulate, Repeat565, Sampler};
 
 /// Where a fragment's unlit colour comes from.
@@ -242,9 +242,7 @@ enum LitBy {
 struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     color: &'b mut [C],
     depth: &'b mut D,
-    width: usize,
-    rows: usize,
-    first_row: i32,
+    area: BandArea,
     base: &'s B,
     lighting: &'s Lt,
     written: u32,
@@ -258,12 +256,10 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
     fn span(&mut self, s: &Span<V>) {
         let len = s.len as usize;
         // The run must lie on one row of this band (the rasterizer guarantees it); checked
-        // anyway, in u32, where nothing can overflow (width and rows are at most 1536).
-        let (row, x) = ((s.y - self.first_row) as u32 as usize, s.x as u32 as usize);
-        if row >= self.rows || x >= self.width || len > self.width - x {
+        // anyway.
+        let Some(start) = self.area.run_start(s.x, s.y, len) else {
             return;
-        }
-        let start = row * self.width + x;
+        };
         let (Some(colors), Some(cells)) = (self.color.get_mut(start..start + len), self.depth.cells(start, len)) else {
             return;
         };
@@ -350,9 +346,7 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
     };
     setup.allow_affine(affine_tolerance::<V>(tolerance));
     let mut shader = Shader::<C, D, B, Lt, DITHER> {
-        width: band.width as usize,
-        rows: band.rows as usize,
-        first_row: band.first_row as i32,
+        area: band.area(),
         color: &mut *band.color,
         depth: &mut band.depth,
         base,

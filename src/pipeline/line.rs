@@ -8,11 +8,9 @@ use crate::target::{Band, DepthBuffer, FrameColor};
 
 /// Writes one pixel at integer pixel `(x, y)` if it is in the band and passes depth.
 fn put<C: FrameColor, D: DepthBuffer>(band: &mut Band<'_, C, D>, x: i32, y: i32, z: u32, c: C, stats: &mut Stats) {
-    let row = y - band.first_row as i32;
-    if x < 0 || x >= band.width as i32 || row < 0 || row >= band.rows as i32 {
+    let Some(i) = band.area().run_start(x, y, 1) else {
         return;
-    }
-    let i = row as usize * band.width as usize + x as usize;
+    };
     if !band.depth.passes(i, z) {
         stats.depth_rejected += 1;
         return;
