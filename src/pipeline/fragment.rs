@@ -2,13 +2,12 @@
 //! dithering, number of varyings) and the span loop that runs it (depth test, texel, light,
 //! store). It does not find which pixels are covered (`raster` does).
 
-use super::primitive::count_reject;
+use super::primitive::Surface;
 use super::raster::{step_varyings, Reject, ScreenVertex, Setup, Span, SpanSink, Window};
 use super::varyings::{is_texel_coordinate, texel_coordinates, PixelLit, VertexLit};
 use super::{Context, Shading, Stats};
 use crate::fixed::FDot16;
 
-use crate::format::Material;
 use crate::light::PixelLights;
 use crate::target::{Band, BandArea, DepthBuffer, DepthCell, FrameColor};
 use crate::texture::{modulate, Repeat565, Sampler};
@@ -115,42 +114,49 @@ impl<const L: usize> Lighting for PixelLights<L> {
 
 /// Rasterizes one screen triangle, choosing the monomorphised inner loop once per triangle so
 /// the per-pixel loop never branches on modes.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    flip: bool,
     tri: &[ScreenVertex; 3],
     area: Option<i64>,
-    material: &Material,
-    sampler: Option<&Sampler<'_>>,
+    surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) {
+    let (material, sampler) = (surface.material, surface.sampler);
+    let winding = Winding { cull_back: material.cull_back_faces, flip: surface.flip, area };
     let r = match (sampler, sampler.and_then(Repeat565::new)) {
-        (_, Some(fast)) => fill_with(band, ctx, (flip, area), tri, material, &fast, stats),
-        (Some(t), None) => fill_with(band, ctx, (flip, area), tri, material, t, stats),
+        (_, Some(fast)) => fill_with(band, ctx, winding, tri, &fast, stats),
+        (Some(t), None) => fill_with(band, ctx, winding, tri, t, stats),
         (None, _) => {
             let diffuse = Diffuse([material.rgba[0], material.rgba[1], material.rgba[2]]);
-            fill_with(band, ctx, (flip, area), tri, material, &diffuse, stats)
+            fill_with(band, ctx, winding, tri, &diffuse, stats)
         }
     };
     match r {
         Ok(()) => stats.drawn += 1,
-        Err(r) => count_reject(r, stats),
+        Err(r) => stats.count_reject(r),
     }
+}
+
+/// What decides whether and which way a triangle faces: whether back faces are culled, whether
+/// the draw's transform mirrors, and the area [`facing`](super::raster::facing) already gave
+/// for these very positions, when known.
+#[derive(Clone, Copy)]
+struct Winding {
+    cull_back: bool,
+    flip: bool,
+    area: Option<i64>,
 }
 
 /// [`fill`] for one base colour source: picks the lighting and dithering variant.
 fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    flip: (bool, Option<i64>),
+    winding: Winding,
     tri: &[ScreenVertex; 3],
-    material: &Material,
     base: &B,
     stats: &mut Stats,
 ) -> Result<(), Reject> {
-    let cull = material.cull_back_faces;
     let specular = ctx.specular;
     let pl = &ctx.pixel_lights;
     let white = || {
@@ -171,17 +177,16 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     let raster = (&ctx.window, ctx.opts.subspan, lit.affine_tolerance_light());
     match (lit, ctx.opts.dither) {
         (LitBy::White, false) => {
-            fragments::<_, _, _, _, { VertexLit::WHITE_LEN }, false>(band, raster, tri, cull, flip, base, &White, stats)
+            fragments::<_, _, _, _, { VertexLit::WHITE_LEN }, false>(band, raster, tri, winding, base, &White, stats)
         }
         (LitBy::White, true) => {
-            fragments::<_, _, _, _, { VertexLit::WHITE_LEN }, true>(band, raster, tri, cull, flip, base, &White, stats)
+            fragments::<_, _, _, _, { VertexLit::WHITE_LEN }, true>(band, raster, tri, winding, base, &White, stats)
         }
         (LitBy::Vertex, false) => fragments::<_, _, _, _, { VertexLit::COLOR_LEN }, false>(
             band,
             raster,
             tri,
-            cull,
-            flip,
+            winding,
             base,
             &Interpolated,
             stats,
@@ -190,8 +195,7 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
             band,
             raster,
             tri,
-            cull,
-            flip,
+            winding,
             base,
             &Interpolated,
             stats,
@@ -200,8 +204,7 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
             band,
             raster,
             tri,
-            cull,
-            flip,
+            winding,
             base,
             &Specular(specular),
             stats,
@@ -210,17 +213,16 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
             band,
             raster,
             tri,
-            cull,
-            flip,
+            winding,
             base,
             &Specular(specular),
             stats,
         ),
         (LitBy::Pixel, false) => {
-            fragments::<_, _, _, _, { PixelLit::LEN }, false>(band, raster, tri, cull, flip, base, pl, stats)
+            fragments::<_, _, _, _, { PixelLit::LEN }, false>(band, raster, tri, winding, base, pl, stats)
         }
         (LitBy::Pixel, true) => {
-            fragments::<_, _, _, _, { PixelLit::LEN }, true>(band, raster, tri, cull, flip, base, pl, stats)
+            fragments::<_, _, _, _, { PixelLit::LEN }, true>(band, raster, tri, winding, base, pl, stats)
         }
     }
 }
@@ -328,21 +330,19 @@ fn affine_tolerance<const V: usize>(other: u32) -> [u32; V] {
 
 // Not inlined: each variant's `Setup` gets its own frame instead of all of them sharing (and
 // enlarging) the caller's.
-#[allow(clippy::too_many_arguments)]
 #[inline(never)]
 fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
     (window, subspan, tolerance): (&Window, u32, u32),
     tri: &[ScreenVertex; 3],
-    cull_back: bool,
-    (flip, area): (bool, Option<i64>),
+    winding: Winding,
     base: &B,
     lighting: &Lt,
     stats: &mut Stats,
 ) -> Result<(), Reject> {
-    let mut setup = match area {
+    let mut setup = match winding.area {
         Some(area) => Setup::<V>::with_area(tri, window, area)?,
-        None => Setup::<V>::new(tri, window, cull_back, flip)?,
+        None => Setup::<V>::new(tri, window, winding.cull_back, winding.flip)?,
     };
     setup.allow_affine(affine_tolerance::<V>(tolerance));
     let mut shader = Shader::<C, D, B, Lt, DITHER> {

@@ -39,7 +39,7 @@ use crate::light::{FixedLights, Lights, PixelLights, PreparedLights};
 use crate::math::{normal_matrix, FixedTransform, Mat3, Mat4, Vec3};
 use crate::target::{Band, DepthBuffer, FrameColor, GUARD_HALF_EXTENT};
 use crate::texture::{Filter, Sampler};
-use primitive::draw_triangle;
+use primitive::{draw_triangle, Surface};
 use raster::Window;
 
 /// How surfaces are lit.
@@ -140,6 +140,18 @@ pub struct Stats {
     /// Triangles skipped because they cannot touch this band: known from a [`Scratch`]
     /// before any vertex work, or found from their projected rows before lighting.
     pub outside_band: u32,
+}
+
+impl Stats {
+    /// Counts a triangle the rasterizer refused.
+    pub(crate) fn count_reject(&mut self, r: raster::Reject) {
+        match r {
+            raster::Reject::BackFace => self.culled_back_face += 1,
+            raster::Reject::Degenerate => self.culled_degenerate += 1,
+            raster::Reject::Empty => {}
+            raster::Reject::OutsideGuardBand => self.culled_frustum += 1,
+        }
+    }
 }
 
 impl core::ops::AddAssign for Stats {
@@ -392,10 +404,10 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     for sub in mesh.submeshes() {
         let material = sub.material.and_then(|m| model.material(m)).unwrap_or_default();
         let sampler = ctx.sampler(model, mesh, &material);
+        let surface = Surface { material: &material, sampler: sampler.as_ref(), flip: setup.flip };
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
-        let mut draw = |t: u32, stats: &mut Stats| {
-            draw_triangle(band, ctx, &setup, t, &material, sampler.as_ref(), vertices.as_deref_mut(), stats)
-        };
+        let mut draw =
+            |t: u32, stats: &mut Stats| draw_triangle(band, ctx, &setup, (t, vertices.as_deref_mut()), &surface, stats);
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
             Some(seen) => {
                 let (start, end) = (ctx.window.row_start, ctx.window.row_end);

@@ -15,22 +15,30 @@ use crate::format::Material;
 use crate::target::{Band, DepthBuffer, FrameColor};
 use crate::texture::Sampler;
 
+/// How a sub-mesh's triangles look and which way they face: what every stage after the
+/// vertices needs of the material.
+pub(crate) struct Surface<'a, 'm> {
+    /// The sub-mesh's material.
+    pub(crate) material: &'a Material,
+    /// Its texture, when it has one and textures are on.
+    pub(crate) sampler: Option<&'a Sampler<'m>>,
+    /// The draw's transform mirrors (negative determinant): front faces wind the other way.
+    pub(crate) flip: bool,
+}
+
 /// Draws triangle `t` and returns the rows it can touch (for [`Scratch`](super::Scratch)).
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
-    t: u32,
-    material: &Material,
-    sampler: Option<&Sampler<'_>>,
-    vertices: Option<&mut [TransformedVertex]>,
+    (t, vertices): (u32, Option<&mut [TransformedVertex]>),
+    surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {
-    match front_end(ctx, s, (t, vertices), material, sampler, band.height, stats) {
+    match front_end(ctx, s, (t, vertices), surface, band.height, stats) {
         Front::Done(rows) => rows,
-        Front::Inside(screen, known) => draw_polygon(band, ctx, s.flip, &screen, known, material, sampler, stats),
-        Front::Clipped(tri) => draw_clipped(band, ctx, s.flip, &tri, material, sampler, stats),
+        Front::Inside(screen, known) => draw_polygon(band, ctx, &screen, known, surface, stats),
+        Front::Clipped(tri) => draw_clipped(band, ctx, &tri, surface, stats),
     }
 }
 
@@ -52,8 +60,7 @@ fn front_end<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     (t, vertices): (u32, Option<&mut [TransformedVertex]>),
-    material: &Material,
-    sampler: Option<&Sampler<'_>>,
+    surface: &Surface<'_, '_>,
     height: u16,
     stats: &mut Stats,
 ) -> Front {
@@ -75,7 +82,7 @@ fn front_end<const L: usize>(
     // gets below, so the decision is the same one it would make.
     let (mut area, mut known_rows) = (None, None);
     if p.iter().all(Projected::in_front) {
-        match facing_of(p.map(|p| (p.x, p.y, p.inv_w)), material.cull_back_faces, s.flip) {
+        match facing_of(p.map(|p| (p.x, p.y, p.inv_w)), surface.material.cull_back_faces, surface.flip) {
             Err(Reject::BackFace) => {
                 stats.culled_back_face += 1;
                 return Front::Done(TriangleRows::EMPTY);
@@ -97,7 +104,7 @@ fn front_end<const L: usize>(
     let lights = cache.map(|c| {
         idx.map(|i| c.get(i as usize).map_or_else(|| vertex_light(ctx, s, i), TransformedVertex::vertex_light))
     });
-    let varyings = vertex_varyings(ctx, s, &idx, lights, sampler);
+    let varyings = vertex_varyings(ctx, s, &idx, lights, surface.sampler);
     // Light and specular come from 16-bit integers: only the others can be non-finite.
     let maybe_not_finite = if ctx.opts.shading == Shading::Phong { PixelLit::LEN } else { VertexLit::LIGHT };
     if !finite_varyings(&varyings, maybe_not_finite) {
@@ -118,10 +125,8 @@ fn front_end<const L: usize>(
 fn draw_clipped<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    flip: bool,
     tri: &[ClipVertex; 3],
-    material: &Material,
-    sampler: Option<&Sampler<'_>>,
+    surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {
     let mut poly = Polygon::new();
@@ -131,7 +136,7 @@ fn draw_clipped<C: FrameColor, D: DepthBuffer, const L: usize>(
     }
     stats.clipped += 1;
     let screen: heapless::Vec<ScreenVertex, { MAX_CLIPPED }> = poly.iter().map(|v| project(v, ctx.half)).collect();
-    draw_polygon(band, ctx, flip, &screen, (None, None), material, sampler, stats)
+    draw_polygon(band, ctx, &screen, (None, None), surface, stats)
 }
 
 /// Fan triangle `k` (1..len-1) of a convex polygon: the polygon itself when it is a triangle
@@ -147,17 +152,15 @@ fn fan_triangle(screen: &[ScreenVertex], k: usize, f: impl FnOnce(&[ScreenVertex
 /// Draws a projected convex polygon (3 or more vertices) in the current mode and returns the
 /// rows it can touch. `known`: what [`facing`] and [`TriangleRows::of`] gave for these very
 /// positions, when known.
-#[allow(clippy::too_many_arguments)]
 fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    flip: bool,
     screen: &[ScreenVertex],
     (area, rows): (Option<i64>, Option<TriangleRows>),
-    material: &Material,
-    sampler: Option<&Sampler<'_>>,
+    surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {
+    let (material, flip) = (surface.material, surface.flip);
     // One facing decision for the whole (convex) polygon, the same in every band.
     let mut facing_result = area.ok_or(Reject::Empty);
     if area.is_none() {
@@ -167,7 +170,7 @@ fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
         Ok(a) => a,
         Err(r) => {
             if r == Reject::BackFace || screen.len() == 3 {
-                count_reject(r, stats);
+                stats.count_reject(r);
                 return TriangleRows::EMPTY;
             }
             0
@@ -178,7 +181,7 @@ fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
         for k in 1..screen.len() - 1 {
             // A triangle's area is the polygon's; fan pieces get their own.
             let known = (screen.len() == 3).then_some(area);
-            fan_triangle(screen, k, |tri| fill(band, ctx, flip, tri, known, material, sampler, stats));
+            fan_triangle(screen, k, |tri| fill(band, ctx, tri, known, surface, stats));
         }
     }
     if matches!(mode, Mode::Wireframe | Mode::Points | Mode::SolidWireframe) {
@@ -196,13 +199,4 @@ fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
         }
     }
     rows.unwrap_or_else(|| TriangleRows::of(screen, band.height))
-}
-
-pub(crate) fn count_reject(r: Reject, stats: &mut Stats) {
-    match r {
-        Reject::BackFace => stats.culled_back_face += 1,
-        Reject::Degenerate => stats.culled_degenerate += 1,
-        Reject::Empty => {}
-        Reject::OutsideGuardBand => stats.culled_frustum += 1,
-    }
 }

@@ -2,7 +2,7 @@
 //! then drawn in that order (for boards without RAM for a depth buffer). It does not transform
 //! for drawing or rasterize (`primitive` and `raster` do, as for every order).
 
-use super::primitive::draw_triangle;
+use super::primitive::{draw_triangle, Surface};
 use super::{Context, DrawError, DrawSetup, Scratch, SortEntry, Stats};
 use crate::format::Model;
 use crate::math::Mat4;
@@ -54,7 +54,8 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
             .find(|s| (s.first_triangle..s.first_triangle + s.triangle_count).contains(&e.triangle));
         let material = sub.and_then(|s| s.material).and_then(|m| model.material(m)).unwrap_or_default();
         let sampler = ctx.sampler(model, &setup.mesh, &material);
-        let _ = draw_triangle(band, ctx, setup, e.triangle, &material, sampler.as_ref(), None, &mut stats);
+        let surface = Surface { material: &material, sampler: sampler.as_ref(), flip: setup.flip };
+        let _ = draw_triangle(band, ctx, setup, (e.triangle, None), &surface, &mut stats);
     }
     Ok(stats)
 }
