@@ -300,23 +300,8 @@ fn emit_mesh(
     n_materials: usize,
     float_positions: bool,
 ) -> Result<(), EmitError> {
-    let fail = |what: String| EmitError(std::format!("mesh \"{}\": {what}", m.name));
+    check_mesh(m)?;
     let nv = m.positions.len();
-    if nv == 0 || nv > u32::MAX as usize {
-        return Err(fail(std::format!("{nv} vertices")));
-    }
-    if m.normals.len() != nv
-        || m.uvs.as_ref().is_some_and(|u| u.len() != nv)
-        || m.colors.as_ref().is_some_and(|c| c.len() != nv)
-    {
-        return Err(fail("normals/uvs/colors and positions differ in length".into()));
-    }
-    if !m.indices.len().is_multiple_of(3) {
-        return Err(fail(std::format!("{} indices is not a multiple of 3", m.indices.len())));
-    }
-    if let Some((k, i)) = m.indices.iter().enumerate().find(|(_, &i)| i as usize >= nv) {
-        return Err(fail(std::format!("indices[{k}] = {i} but only {nv} vertices")));
-    }
     out.put_affine(at + mesh::WORLD.start, &m.world);
     let (pos_offset, pos_scale) =
         if float_positions { ([0.0; 3], [1.0; 3]) } else { quantizer(m.positions.iter().copied()) };
@@ -332,16 +317,7 @@ fn emit_mesh(
         + u16::from(float_positions) * mesh::FLAG_F32_POSITIONS;
     out.put_u16(at + mesh::FLAGS.start, flags);
 
-    let name = m.name.as_bytes();
-    let name = &name[..name.len().min(u16::MAX as usize)];
-    let name = match core::str::from_utf8(name) {
-        Ok(s) => s.as_bytes(),
-        Err(e) => &name[..e.valid_up_to()],
-    };
-    let name_at = out.append(name);
-    out.put_u32(at + mesh::NAME.start, name_at);
-    out.put_u16(at + mesh::NAME_LEN.start, name.len() as u16);
-
+    emit_mesh_name(out, at, &m.name);
     let positions: Vec<u8> = if float_positions {
         m.positions.iter().flatten().flat_map(|v| v.to_le_bytes()).collect()
     } else {
@@ -352,6 +328,58 @@ fn emit_mesh(
     };
     let o = out.append(&positions);
     out.put_u32(at + mesh::POSITIONS.start, o);
+    emit_attributes(out, at, m);
+    let indices: Vec<u8> = if wide {
+        m.indices.iter().flat_map(|i| i.to_le_bytes()).collect()
+    } else {
+        m.indices.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect()
+    };
+    let o = out.append(&indices);
+    out.put_u32(at + mesh::INDICES.start, o);
+    emit_submeshes(out, at, m, n_materials)
+}
+
+/// The mesh error `what`, naming the mesh.
+fn mesh_error(m: &scene::MeshData, what: &str) -> EmitError {
+    EmitError(std::format!("mesh \"{}\": {what}", m.name))
+}
+
+/// Checks a mesh against itself: vertices, attribute lengths, whole triangles, index range.
+fn check_mesh(m: &scene::MeshData) -> Result<(), EmitError> {
+    let nv = m.positions.len();
+    if nv == 0 || nv > u32::MAX as usize {
+        return Err(mesh_error(m, &std::format!("{nv} vertices")));
+    }
+    if m.normals.len() != nv
+        || m.uvs.as_ref().is_some_and(|u| u.len() != nv)
+        || m.colors.as_ref().is_some_and(|c| c.len() != nv)
+    {
+        return Err(mesh_error(m, "normals/uvs/colors and positions differ in length"));
+    }
+    if !m.indices.len().is_multiple_of(3) {
+        return Err(mesh_error(m, &std::format!("{} indices is not a multiple of 3", m.indices.len())));
+    }
+    if let Some((k, i)) = m.indices.iter().enumerate().find(|(_, &i)| i as usize >= nv) {
+        return Err(mesh_error(m, &std::format!("indices[{k}] = {i} but only {nv} vertices")));
+    }
+    Ok(())
+}
+
+/// The mesh's name, cut to at most 65535 bytes at a character boundary.
+fn emit_mesh_name(out: &mut Out, at: usize, name: &str) {
+    let name = name.as_bytes();
+    let name = &name[..name.len().min(u16::MAX as usize)];
+    let name = match core::str::from_utf8(name) {
+        Ok(s) => s.as_bytes(),
+        Err(e) => &name[..e.valid_up_to()],
+    };
+    let name_at = out.append(name);
+    out.put_u32(at + mesh::NAME.start, name_at);
+    out.put_u16(at + mesh::NAME_LEN.start, name.len() as u16);
+}
+
+/// The mesh's normals, then its UVs and vertex colours when it has them.
+fn emit_attributes(out: &mut Out, at: usize, m: &scene::MeshData) {
     let normals: Vec<u8> = m
         .normals
         .iter()
@@ -376,14 +404,10 @@ fn emit_mesh(
         let o = out.append(&bytes);
         out.put_u32(at + mesh::COLORS.start, o);
     }
-    let indices: Vec<u8> = if wide {
-        m.indices.iter().flat_map(|i| i.to_le_bytes()).collect()
-    } else {
-        m.indices.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect()
-    };
-    let o = out.append(&indices);
-    out.put_u32(at + mesh::INDICES.start, o);
+}
 
+/// The mesh's sub-mesh records (one over all indices when it has none).
+fn emit_submeshes(out: &mut Out, at: usize, m: &scene::MeshData, n_materials: usize) -> Result<(), EmitError> {
     let whole = [scene::SubMeshData { material: None, index_start: 0, index_count: m.indices.len() as u32 }];
     let subs = if m.submeshes.is_empty() { &whole[..] } else { &m.submeshes[..] };
     let n_sub = count_u16(subs.len(), "sub-meshes")?;
@@ -393,7 +417,7 @@ fn emit_mesh(
     for (k, s) in subs.iter().enumerate() {
         let r = s_at + k * submesh::LEN;
         if s.material.is_some_and(|mi| mi as usize >= n_materials) {
-            return Err(fail(std::format!("sub-mesh {k}: material {:?} does not exist", s.material)));
+            return Err(mesh_error(m, &std::format!("sub-mesh {k}: material {:?} does not exist", s.material)));
         }
         out.put_u16(r + submesh::MATERIAL.start, s.material.unwrap_or(NONE));
         out.put_u32(r + submesh::INDEX_START.start, s.index_start);

@@ -1,0 +1,64 @@
+//! The camera: the active one (`activeCameraID`, or the legacy `activeCamera`, else the first),
+//! its target (`target`, else the world position of `lockedTargetId`, else the origin for an
+//! `ArcRotateCamera`, else `position` + the rotated +z axis), field of view and clip planes,
+//! taken to world space through its parent.
+//!
+//! World matrices come from `node`; lights are read by `light`.
+
+use std::format;
+use std::string::String;
+
+use super::fields::{label, list, scalar, show, text, vector};
+use super::transform::{transform, Trs};
+use super::{ConvertError, Reader};
+use crate::convert::scene::CameraData;
+
+impl Reader<'_> {
+    /// Sets `Scene::camera` from the active camera, if the scene has any.
+    pub(super) fn read_camera(&mut self) -> Result<(), ConvertError> {
+        let scx = self.ctx("scene");
+        let cameras = list(self.root, "cameras").map_err(|m| scx.err(m))?;
+        let active = match text(self.root, "activeCameraID").map_err(|m| scx.err(m))? {
+            Some(id) => Some(id),
+            None => text(self.root, "activeCamera").map_err(|m| scx.err(m))?,
+        };
+        let found = active
+            .as_deref()
+            .and_then(|id| cameras.iter().position(|c| text(c, "id").ok().flatten().as_deref() == Some(id)));
+        if let (Some(id), None, false) = (&active, found, cameras.is_empty()) {
+            self.warn(format!("active camera {id:?} not found, the first camera used"));
+        }
+        let Some(i) = found.or((!cameras.is_empty()).then_some(0)) else {
+            return Ok(());
+        };
+        let c = &cameras[i];
+        let cx = self.ctx(label(c, "camera", "cameras", i));
+        let e = |m: String| cx.err(m);
+        if !c.is_object() {
+            return Err(cx.err(format!("expected an object, found {}", show(c))));
+        }
+        let position = vector(c, "position").map_err(e)?.unwrap_or([0.; 3]);
+        let target = match (vector(c, "target").map_err(e)?, text(c, "lockedTargetId").map_err(e)?) {
+            (Some(t), _) => t,
+            (None, Some(id)) if self.ids.contains_key(&id) => {
+                let w = self.world(self.ids[&id])?;
+                [w[12], w[13], w[14]]
+            }
+            _ if text(c, "type").map_err(e)?.as_deref() == Some("ArcRotateCamera") => [0.; 3],
+            _ => {
+                let forward = transform(&Trs::read(c, Trs::IDENTITY).map_err(e)?.rotation_matrix(), [0., 0., 1.], 0.);
+                core::array::from_fn(|k| position[k] + forward[k])
+            }
+        };
+        let parent = self.parent(c, &cx.what)?;
+        let world = self.parent_world(parent)?;
+        self.scene.camera = Some(CameraData {
+            position: transform(&world, position, 1.),
+            target: transform(&world, target, 1.),
+            fov: scalar(c, "fov", 0.8).map_err(e)?,
+            near: scalar(c, "minZ", 1.).map_err(e)?,
+            far: scalar(c, "maxZ", 10000.).map_err(e)?,
+        });
+        Ok(())
+    }
+}
