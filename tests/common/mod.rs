@@ -1,5 +1,8 @@
-//! Helpers shared by the integration tests: the asset list, conversion, a seeded PRNG.
+//! Helpers shared by the integration tests: the asset list, conversion, a seeded PRNG, and
+//! [`mock::CheckedTarget`], a render target that fails on overdraw and on writes outside the band.
 #![allow(dead_code)] // each test file uses a different part
+
+pub mod mock;
 
 use std::path::PathBuf;
 
