@@ -13,49 +13,6 @@ pub use crate::pipeline::raster::{
 pub use crate::pipeline::{clip_triangle, ClipResult, ClipVertex, GuardBand, Polygon, MAX_VARYINGS, VARYING_FRAC};
 pub use crate::texture::{modulate, modulate565, Repeat565, Sampler};
 
-/// A unit cube with one directional light, as `.s3d` bytes: the examples in the docs draw it.
-#[cfg(feature = "convert")]
-#[must_use]
-pub fn cube_s3d() -> std::vec::Vec<u8> {
-    use crate::convert::scene::{MaterialData, MeshData, Scene, SubMeshData, IDENTITY};
-    use std::vec;
-    let mut positions = vec![];
-    let mut normals = vec![];
-    let mut indices = vec![];
-    for axis in 0..3 {
-        for side in [-1.0f32, 1.0] {
-            let base = positions.len() as u32;
-            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-                let mut p = [0.0; 3];
-                p[axis] = side;
-                p[u] = a;
-                p[v] = b * side;
-                let mut n = [0.0; 3];
-                n[axis] = side;
-                positions.push(p);
-                normals.push(n);
-            }
-            indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
-        }
-    }
-    let mesh = MeshData {
-        name: "cube".into(),
-        world: IDENTITY,
-        positions,
-        normals,
-        submeshes: vec![SubMeshData { material: Some(0), index_start: 0, index_count: indices.len() as u32 }],
-        indices,
-        ..MeshData::default()
-    };
-    let scene = Scene {
-        meshes: vec![mesh],
-        materials: vec![MaterialData { back_face_culling: false, ..MaterialData::default() }],
-        ..Scene::default()
-    };
-    crate::convert::emit(&scene, &crate::convert::EmitOptions::default()).unwrap_or_default()
-}
-
 pub mod reference {
     //! The reference "Suzanne frame" shared by the benchmarks, the QEMU firmware and the host
     //! comparison test, so that every figure is measured on the same picture:

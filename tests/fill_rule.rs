@@ -3,7 +3,7 @@
 //! rule of `src/lib.rs`), and a band writes nothing outside its own rows.
 //!
 //! `tests/raster.rs` checks the rasterizer alone against a reference; here meshes go through
-//! `emit`, `Model::parse` and `draw_model` (transform, 28.4 snapping, the span loop) into the
+//! `emit`, `Model::parse` and `Renderer::draw` (transform, 28.4 snapping, the span loop) into the
 //! checked target, drawn whole and in bands of 1, 3 and 7 rows, with subspans 1 and 8 and
 //! with integer vertex transforms.
 //!
@@ -18,8 +18,7 @@
 
 use soft3d::convert::scene::{MaterialData, MeshData, Scene, SubMeshData, IDENTITY};
 use soft3d::convert::{emit, EmitOptions};
-use soft3d::math::{Mat4, Vec3, Vec4};
-use soft3d::{draw_model, Camera, Lights, Model, RenderOptions, Shading};
+use soft3d::{Camera, Lights, Mat4, Model, RenderOptions, Renderer, Scratch, Shading, Vec3, Vec4};
 use std::f64::consts::TAU;
 
 mod common;
@@ -87,7 +86,7 @@ fn draw(target: &mut CheckedTarget, rows: u16, bytes: &[u8], cam: &Camera, opts:
     let model = Model::parse(bytes).unwrap();
     let lights = Lights::<0>::new(Vec3::ONE);
     target.draw_in_bands(rows, |band| {
-        draw_model(band, &model, Mat4::IDENTITY, cam, &lights, opts);
+        Renderer::new(cam, &lights, *opts).draw(band, &model, Mat4::IDENTITY, &mut Scratch::none()).unwrap();
     });
 }
 
@@ -162,14 +161,9 @@ fn a_write_outside_the_band_is_caught() {
     let bytes = build(on_frame(&QUAD, 8), &[[0, 2, 3]]);
     let mut target = CheckedTarget::new(8, 8);
     let model = Model::parse(&bytes).unwrap();
-    draw_model(
-        &mut target.band(3, 3),
-        &model,
-        Mat4::IDENTITY,
-        &pixel_camera(8, 8),
-        &Lights::<0>::new(Vec3::ONE),
-        &unlit(1, false),
-    );
+    let (camera, lights) = (pixel_camera(8, 8), Lights::<0>::new(Vec3::ONE));
+    let renderer = Renderer::new(&camera, &lights, unlit(1, false));
+    renderer.draw(&mut target.band(3, 3), &model, Mat4::IDENTITY, &mut Scratch::none()).unwrap();
     target.assert_untouched_outside(0..3);
 }
 

@@ -1,5 +1,5 @@
 //! The writing half of the `.s3d` layout: [`emit`] turns a converted [`Scene`] into `.s3d`
-//! bytes with the offsets of [`crate::format`]'s layout module, and [`to_scene`] reads a
+//! bytes with the offsets of `format`'s layout module, and [`to_scene`] reads a
 //! [`Model`] back into a [`Scene`].
 
 use crate::format::layout::*;

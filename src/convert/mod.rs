@@ -8,7 +8,7 @@
 //!    first frames, texture matrices, UV origin, texture loading and resizing per
 //!    [`ConvertOptions`]); what they work around is reported as [`Warning`]s, what they cannot
 //!    read as a [`ConvertError`].
-//! 2. **[`Scene`] → `.s3d`**: [`emit()`] writes the scene in the layout of [`crate::format`]
+//! 2. **[`Scene`] → `.s3d`**: [`emit()`] writes the scene in the layout of `format`
 //!    (positions quantized or exact, textures as chosen by [`EmitOptions`]), failing with an
 //!    [`EmitError`]; [`to_scene`] reads a parsed [`Model`](crate::format::Model) back.
 //!
@@ -19,7 +19,7 @@
 //! build scenes in code. Everything else is reached through the re-exports below; the
 //! submodules are private.
 //!
-//! The `no_std` core (rendering, [`crate::format`]'s reader) never imports this module: the
+//! The `no_std` core (rendering, `format`'s reader) never imports this module: the
 //! dependency goes one way, from the host side to the core.
 
 mod babylon;

@@ -175,3 +175,47 @@ pub struct CameraData {
     /// Far clip distance (`maxZ`).
     pub far: f32,
 }
+
+impl Scene {
+    /// A cube from -1 to 1 on each axis, white, drawn from both sides, with no lights (so
+    /// [`Lights::from_model`](crate::Lights::from_model) gives Babylon's default hemispheric
+    /// light): a scene to try the renderer with, as the API docs do.
+    #[must_use]
+    pub fn cube() -> Scene {
+        use std::vec;
+        let mut positions = vec![];
+        let mut normals = vec![];
+        let mut indices = vec![];
+        for axis in 0..3 {
+            for side in [-1.0f32, 1.0] {
+                let base = positions.len() as u32;
+                let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                    let mut p = [0.0; 3];
+                    p[axis] = side;
+                    p[u] = a;
+                    p[v] = b * side;
+                    let mut n = [0.0; 3];
+                    n[axis] = side;
+                    positions.push(p);
+                    normals.push(n);
+                }
+                indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+            }
+        }
+        let mesh = MeshData {
+            name: "cube".into(),
+            world: IDENTITY,
+            positions,
+            normals,
+            submeshes: vec![SubMeshData { material: Some(0), index_start: 0, index_count: indices.len() as u32 }],
+            indices,
+            ..MeshData::default()
+        };
+        Scene {
+            meshes: vec![mesh],
+            materials: vec![MaterialData { back_face_culling: false, ..MaterialData::default() }],
+            ..Scene::default()
+        }
+    }
+}

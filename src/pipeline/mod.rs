@@ -214,7 +214,7 @@ impl std::error::Error for DrawError {}
 /// ```
 /// use soft3d::{Band, Camera, Lights, Mat4, Model, RenderOptions, Renderer, Scratch, Vec3};
 /// use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
-/// # let bytes = soft3d::testing::cube_s3d();
+/// # let bytes = soft3d::convert::emit(&soft3d::convert::Scene::cube(), &Default::default())?;
 /// let model = Model::parse(&bytes)?;
 /// let camera = Camera::perspective(Vec3::new(0.0, 1.0, -4.0), Vec3::ZERO, 0.8, 1.0, 0.1, 100.0)?;
 /// let lights = Lights::<2>::from_model(&model);
