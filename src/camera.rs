@@ -1,4 +1,6 @@
-//! Cameras: Babylon.js `LookAtLH` view with a `PerspectiveFovLH` or `OrthoLH` projection.
+//! Cameras: Babylon.js `LookAtLH` view with a `PerspectiveFovLH` or `OrthoLH` projection, as
+//! the caller sets them up per frame. The matrices themselves are `math`'s; projecting vertices
+//! is the pipeline's.
 
 use crate::format::{Model, SceneCamera};
 use crate::math::{look_at_lh, orthographic_lh, perspective_lh, Mat4, Vec3};

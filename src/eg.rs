@@ -1,4 +1,5 @@
-//! embedded-graphics integration (feature `embedded-graphics`).
+//! embedded-graphics integration (feature `embedded-graphics`): the boundary between drawing
+//! and a display. It renders nothing 3D itself and owns no buffer.
 //!
 //! - [`present`] sends a rendered band to any [`DrawTarget`] with one `fill_contiguous` over
 //!   the band's rectangle (a display driver turns that into one window + one burst).

@@ -1,5 +1,5 @@
 //! Why a byte slice is not a valid `.s3d` file: [`ParseError`], with the [`Part`] of the file
-//! and the byte offset it is about.
+//! and the byte offset it is about. Finding the errors is `model`'s job.
 
 use core::fmt;
 

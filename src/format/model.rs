@@ -1,6 +1,6 @@
 //! [`Model`]: a validated `.s3d` file borrowed in place, its validation (done once, in
 //! [`Model::parse`]) and its per-file records (materials, textures, instances, lights, camera).
-//! Meshes are [`super::mesh`]'s.
+//! Meshes are [`super::mesh`]'s; the byte offsets are `layout`'s. It never writes a file.
 
 use core::ops::Range;
 

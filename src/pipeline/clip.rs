@@ -1,5 +1,6 @@
 //! Homogeneous clipping against the near and far planes and the guard band, and the outcodes
-//! that classify a triangle for culling and clipping.
+//! that classify a triangle for culling and clipping. It does not project or draw what is left
+//! (`primitive` does).
 //!
 //! A triangle that crosses a plane is cut to the polygon the plane leaves (at most 3 + 6
 //! vertices, in a fixed-capacity buffer) and drawn as a fan; one wholly outside any view

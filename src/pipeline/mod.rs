@@ -16,7 +16,8 @@
 //!
 //! `sort.rs` orders triangles back to front for [`DrawOrder::BackToFront`] (painter's
 //! algorithm); `varyings.rs` names what a vertex carries; `scratch.rs` is the caller's memory
-//! for all of it.
+//! for all of it. Nothing here touches a display or a file: the caller's `Band` is the only
+//! output.
 
 mod clip;
 mod fragment;

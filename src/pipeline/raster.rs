@@ -241,9 +241,12 @@ pub(crate) fn facing_of(p: [(i32, i32, f32); 3], cull_back: bool, flip: bool) ->
 }
 
 impl<const V: usize> Setup<V> {
-    /// Prepares `tri` for rasterization into `win`. `cull_front_ccw`: cull triangles whose
-    /// image-space winding is counter-clockwise in window coordinates' opposite sense, i.e. back
-    /// faces; `flip` inverts which winding counts as front (negative-determinant transforms).
+    /// Prepares `tri` for rasterization into `win`. `cull_back`: refuse back faces (front faces
+    /// wind counter-clockwise with y up, see the crate's conventions); `flip` inverts which
+    /// winding counts as front (negative-determinant transforms).
+    ///
+    /// # Errors
+    /// The [`Reject`] that says why nothing is drawn.
     pub fn new(tri: &[ScreenVertex; 3], win: &Window, cull_back: bool, flip: bool) -> Result<Self, Reject> {
         Self::with_area(tri, win, facing(tri, cull_back, flip)?)
     }
