@@ -1,9 +1,12 @@
 #!/usr/bin/env python3
 """Where a firmware's instructions go, by pipeline stage (the keys name src/pipeline/ files and functions).
 
-Usage: mcu-profile.py ELF1 PROF1 ELF2 PROF2 COVERED
+Usage: mcu-profile.py ELF1 PROF1 ELF2 PROF2 COVERED [WRITTEN RUNS DRAWN]
   ELFn/PROFn: the firmware rendering n frames and its per-address instruction counts
-  (benches/qemu-pcprof); COVERED: covered pixels per frame.
+  (benches/qemu-pcprof); COVERED: covered pixels per frame; WRITTEN, RUNS, DRAWN: the frame's
+  pixels written, runs of pixels and triangles drawn (the firmware's JSON line), for the
+  per-unit figures (pixel loop per written pixel, rows and spans per run, set-up plus front end
+  per drawn triangle).
 Prints a markdown table of instructions per frame (2 frames - 1 frame) per stage. Each
 executed address is attributed, through its inlining chain (llvm-addr2line), to the first
 stage below whose function appears in the chain.
@@ -53,6 +56,16 @@ def main():
         total += per_frame
         print(f"| {stage} | {per_frame} | {per_frame / covered:.1f} |")
     print(f"| total | {total} | {total / covered:.1f} |")
+    if len(sys.argv) >= 9:
+        written, runs, drawn = (int(a) for a in sys.argv[6:9])
+        per = lambda stage: two[stage] - one[stage]
+        front = sum(per(s) for s, _ in STAGES[2:6])
+        print()
+        print("| figure | instructions |")
+        print("| --- | ---: |")
+        print(f"| pixel loop per written pixel ({written} written) | {per(STAGES[0][0]) / written:.1f} |")
+        print(f"| rows and spans per run ({runs} runs) | {per(STAGES[1][0]) / runs:.1f} |")
+        print(f"| set-up, lighting, clipping and front end per drawn triangle ({drawn} drawn) | {front / drawn:.1f} |")
 
 
 if __name__ == "__main__":

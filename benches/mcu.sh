@@ -74,6 +74,7 @@ rows=()
 ratios=()
 lines=()
 m4_covered=0 # covered pixels of the M4F 1-band frame, for the stage table
+m4_json=""   # its JSON line
 for config in "${configs[@]}"; do
     read -r target machine cpu <<<"$config"
     declare -A per_frame=()
@@ -97,7 +98,10 @@ for config in "${configs[@]}"; do
             lines+=("$target $bands band(s) $frames frame(s): $JSON")
         done
         covered="$(json_field covered "$json1")"
-        [ "$target" = thumbv7em-none-eabihf ] && [ "$bands" = 1 ] && m4_covered="$covered"
+        if [ "$target" = thumbv7em-none-eabihf ] && [ "$bands" = 1 ]; then
+            m4_covered="$covered"
+            m4_json="$json1"
+        fi
         stack="$(json_field stack_bytes "$json1")"
         core_stack="$(json_field core_stack_bytes "$json1")"
         pf=$((count[2] - count[1]))
@@ -128,6 +132,35 @@ echo
 echo "| target | per frame, 8 bands of 240x30 | per frame, 1 band of 240x240 | 8 bands / 1 band |"
 echo "| --- | ---: | ---: | ---: |"
 printf '%s\n' "${ratios[@]}"
+# Other views of the same model, M4F, 1 band (examples/qemu `view`): far away (vertex-bound)
+# and a close-up (pixel-bound, clipped at the guard band).
+views=()
+for view in view-far view-near; do
+    declare -A count=()
+    for frames in 1 2; do
+        features="one-band,$view"
+        [ "$frames" = 2 ] && features="$features,two-frames"
+        echo "building thumbv7em-none-eabihf, $view, $frames frame(s)" >&2
+        (cd "$fw" && cargo build --release --quiet --target thumbv7em-none-eabihf --features "$features")
+        elf="$work/$view-$frames.elf"
+        cp "$fw/target/thumbv7em-none-eabihf/release/soft3d-qemu" "$elf"
+        run "$elf" mps2-an386 cortex-m4
+        count[$frames]="$INSNS"
+        [ "$frames" = 1 ] && json1="$JSON"
+        lines+=("thumbv7em-none-eabihf $view $frames frame(s): $JSON")
+    done
+    pf=$((count[2] - count[1]))
+    views+=("| $view | $pf | $(json_field covered "$json1") | $(json_field pixels_written "$json1") | $(json_field runs "$json1") | $(json_field drawn "$json1") |")
+    unset count
+done
+
+echo
+echo "Other views, Cortex-M4F, 1 band of 240x240 (view-far: camera (0, 0, -12), model turned -0.7 rad;"
+echo "view-near: camera (0.3, 0.2, -1.6), model turned 0.5 rad; both FOV 0.8):"
+echo
+echo "| view | insns per frame | covered px | pixels written | runs | triangles drawn |"
+echo "| --- | ---: | ---: | ---: | ---: | ---: |"
+printf '%s\n' "${views[@]}"
 echo
 echo "JSON lines:"
 printf '%s\n' "${lines[@]}"
@@ -150,7 +183,8 @@ if command -v python3 >/dev/null && command -v llvm-addr2line >/dev/null; then
     echo "Cortex-M4F, 1 band of 240x240, instructions per frame by stage:"
     echo
     python3 "$root/benches/mcu-profile.py" "$work/$m4-1-1.elf" "$work/pc-1.txt" "$work/$m4-1-2.elf" "$work/pc-2.txt" \
-        "$m4_covered"
+        "$m4_covered" "$(json_field pixels_written "$m4_json")" "$(json_field runs "$m4_json")" \
+        "$(json_field drawn "$m4_json")"
 else
     echo "(stage profile skipped: needs python3 and llvm-addr2line)"
 fi

@@ -249,6 +249,7 @@ struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     lighting: &'s Lt,
     written: u32,
     rejected: u32,
+    runs: u32,
 }
 
 impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool> SpanSink<V>
@@ -285,6 +286,7 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
         }
         self.written += s.len - rejected - cut;
         self.rejected += rejected;
+        self.runs += 1;
     }
 }
 
@@ -353,9 +355,11 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         lighting,
         written: 0,
         rejected: 0,
+        runs: 0,
     };
     setup.for_each_span(subspan, &mut shader);
     stats.pixels_written += shader.written;
     stats.depth_rejected += shader.rejected;
+    stats.runs += shader.runs;
     Ok(())
 }

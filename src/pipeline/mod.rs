@@ -136,6 +136,9 @@ pub struct Stats {
     pub drawn: u32,
     /// Pixels written.
     pub pixels_written: u32,
+    /// Runs of covered pixels handed to the span loop (each a row, or part of a row, of a
+    /// triangle): what the per-row and per-run costs are measured against.
+    pub runs: u32,
     /// Fragments rejected by the depth test.
     pub depth_rejected: u32,
     /// Triangles skipped because they cannot touch this band: known from a [`Scratch`]
@@ -165,6 +168,7 @@ impl core::ops::AddAssign for Stats {
         self.clipped += o.clipped;
         self.drawn += o.drawn;
         self.pixels_written += o.pixels_written;
+        self.runs += o.runs;
         self.depth_rejected += o.depth_rejected;
         self.outside_band += o.outside_band;
     }

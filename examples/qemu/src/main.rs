@@ -33,7 +33,9 @@ use semihosting::io::Write as _;
 use semihosting::{eprintln, println, process};
 use serde::Serialize;
 use soft3d::testing::reference;
-use soft3d::{Band, Model, RenderOptions, Renderer, Scratch, Stats, TransformedVertex, TriangleRows};
+use soft3d::{
+    Band, Camera, Mat4, Model, RenderOptions, Renderer, Scratch, Stats, TransformedVertex, TriangleRows, Vec3,
+};
 
 /// The reference scene, converted at build time (see build.rs).
 static SUZANNE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
@@ -71,6 +73,8 @@ struct Report {
     /// triangle straddling a band boundary counts once per band).
     drawn: u32,
     pixels_written: u32,
+    /// Sum over bands of the runs of pixels handed to the span loop.
+    runs: u32,
     depth_rejected: u32,
     /// Depth entries not at the far plane after the frame.
     covered: u32,
@@ -108,12 +112,12 @@ fn run() -> Result<(), &'static str> {
     if model.draw_counts() != (TRIANGLES, VERTICES) {
         return Err("suzanne.s3d does not have the expected triangle and vertex counts");
     }
-    // The reference frame, shared with the host test that compares our output.
-    let camera = reference::camera(WIDTH, HEIGHT);
+    // The reference frame, shared with the host test that compares our output (or, with a
+    // `view-*` feature, another view of the same model for the benchmarks).
+    let (camera, transform) = view()?;
     let lights = reference::lights();
     // FPU-less builds (thumbv6m) transform vertices in integers (see RenderOptions).
     let opts = RenderOptions { fixed_vertices: cfg!(target_abi = "eabi"), ..reference::options() };
-    let transform = reference::transform();
     let renderer = Renderer::new(&camera, &lights, opts);
 
     let mut stats = Stats::default();
@@ -157,6 +161,7 @@ fn run() -> Result<(), &'static str> {
         triangles: model.draws().map(|(mesh, _)| mesh.triangle_count()).sum(),
         drawn: stats.drawn,
         pixels_written: stats.pixels_written,
+        runs: stats.runs,
         depth_rejected: stats.depth_rejected,
         covered,
         stack_bytes: firmware_stack.max(stack_high_water()),
@@ -246,5 +251,25 @@ fn paint_stack(from: usize, to: usize) {
         // live object, no interrupt handler runs here) and only ever hold the paint pattern.
         unsafe { core::ptr::write_volatile(p as *mut u32, STACK_PAINT) };
         p += 4;
+    }
+}
+
+/// The camera and model transform drawn: the reference frame, or with feature `view-far` the
+/// model at distance 12 (camera at (0, 0, -12) looking at the origin, model turned -0.7 rad
+/// about y: few pixels, vertex-bound), or with `view-near` a close-up at distance 1.6 that
+/// overflows the frame (pixel-bound, with clipping at the guard band).
+fn view() -> Result<(Camera, Mat4), &'static str> {
+    let aspect = WIDTH as f32 / HEIGHT as f32;
+    let at = |eye: Vec3, turn: f32| {
+        Camera::perspective(eye, Vec3::ZERO, 0.8, aspect, 0.1, 100.0)
+            .map(|c| (c, Mat4::from_rotation_y(turn)))
+            .map_err(|_| "bad camera")
+    };
+    if cfg!(feature = "view-far") {
+        at(Vec3::new(0.0, 0.0, -12.0), -0.7)
+    } else if cfg!(feature = "view-near") {
+        at(Vec3::new(0.3, 0.2, -1.6), 0.5)
+    } else {
+        Ok((reference::camera(WIDTH, HEIGHT), reference::transform()))
     }
 }
