@@ -13,12 +13,12 @@
 //! 3. the teapot asset, Phong, scene lights, 640x480;
 //! 4. fill rate: three full-screen quads (6 triangles) drawn back to front, 640x480;
 //! 5. triangle rate: UV spheres of ~1k, ~10k and ~100k triangles, Gouraud, untextured, 640x480;
-//! 6. the reference frame at 240x240 in 8 bands of 240x30 (with and without a `RowCache`)
+//! 6. the reference frame at 240x240 in 8 bands of 240x30 (with and without a `Scratch`)
 //!    versus 1 band;
 //!
-//! soft3d draws through `draw_model_cached` with a `RowCache` holding every triangle's rows and
+//! soft3d draws through `Renderer::draw` with a `Scratch` holding every triangle's rows and
 //! every transformed vertex (scratch allocated once), as a frame-drawing application would;
-//! scene 6 also shows 8 bands of plain `draw_model`, without any cache.
+//! scene 6 also shows 8 bands drawn with `Scratch::none()`, without any cache.
 //! 7. euc 0.5 rendering the same Suzanne mesh (same triangles, matrices, texture, lights).
 //!
 //! Side effects (once, outside the timing): `out/bench-soft3d.png` and `out/bench-euc.png`, the
@@ -144,7 +144,7 @@ fn fill_quads(aspect: f32, texture: TextureData) -> Vec<u8> {
     emit(&one_mesh_scene(mesh, material, vec![texture]), &EmitOptions::default()).expect("emit quads")
 }
 
-/// A whole-frame colour and depth buffer for soft3d, and the scratch of its [`RowCache`].
+/// A whole-frame colour and depth buffer for soft3d, and the memory of its [`Scratch`].
 struct Frame {
     width: u16,
     height: u16,
@@ -177,7 +177,7 @@ impl Frame {
     }
 
     /// One frame in bands of `rows` rows (the last band may be shorter) with plain
-    /// `draw_model`: clear and draw each.
+    /// No scratch: clear and draw each.
     fn render_uncached<const L: usize>(&mut self, job: &Job<'_, L>, rows: u16) -> Stats {
         let chunk = rows as usize * self.width as usize;
         let mut stats = Stats::default();
@@ -191,7 +191,7 @@ impl Frame {
         stats
     }
 
-    /// Like [`Frame::render_uncached`], with a [`RowCache`] of every triangle's rows and every
+    /// Like [`Frame::render_uncached`], with a [`Scratch`] of every triangle's rows and every
     /// transformed vertex (reset at the start of the frame): each vertex is transformed and
     /// lit once, and later bands skip triangles that cannot touch them.
     fn render<const L: usize>(&mut self, job: &Job<'_, L>, rows: u16) -> Stats {
@@ -474,13 +474,13 @@ fn main() {
         row(&format!("Suzanne reference 240x240, {n} band(s) of 240x{rows}"), t, None);
         band_times.push(t);
     }
-    // The same 8 bands with plain draw_model: no cache at all.
+    // The same 8 bands with no scratch: no cache at all.
     let stats = frame.render_uncached(&job, 30);
     println!("bands 8x30 rows, no cache: covered {}, {stats:?}", frame.covered());
     let t = bench(&mut g, "8x240x30-uncached", || {
         std::hint::black_box(frame.render_uncached(&job, 30));
     });
-    row("Suzanne reference 240x240, 8 band(s) of 240x30, no RowCache", t, None);
+    row("Suzanne reference 240x240, 8 band(s) of 240x30, no Scratch", t, None);
     band_times.push(t);
     g.finish();
 
@@ -568,7 +568,7 @@ fn main() {
     }
     if let [Some(one), eight, uncached] = band_times[..] {
         println!();
-        for (what, t) in [("8 bands of 240x30", eight), ("8 bands of 240x30 without RowCache", uncached)] {
+        for (what, t) in [("8 bands of 240x30", eight), ("8 bands of 240x30 without Scratch", uncached)] {
             if let Some(t) = t {
                 println!("{what} vs 1 band of 240x240: {t:.3} / {one:.3} ms = {:.2}x", t / one);
             }
