@@ -27,6 +27,9 @@ cargo clippy --lib --bins --features cli,embedded-graphics -- -D warnings -W cli
 step "API docs (no broken or private links)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features convert,embedded-graphics
 
+step "fuzz targets compile (cargo check; scripts run them)"
+cargo check --quiet --manifest-path fuzz/Cargo.toml --bins
+
 step "host tests"
 cargo test
 

@@ -2,8 +2,8 @@
 //! whatever `emit` writes, `Model::parse` accepts.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use soft3d::convert::{read_babylon, ConvertOptions};
-use soft3d::format::{emit, EmitOptions, Model};
+use soft3d::convert::{emit, read_babylon, ConvertOptions, EmitOptions};
+use soft3d::Model;
 
 fuzz_target!(|data: &[u8]| {
     let Ok((scene, _)) = read_babylon(data, None, "fuzz.babylon", &ConvertOptions::default()) else { return };

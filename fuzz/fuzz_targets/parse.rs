@@ -2,8 +2,7 @@
 #![no_main]
 use embedded_graphics_core::pixelcolor::Rgb565;
 use libfuzzer_sys::fuzz_target;
-use soft3d::math::{Mat4, Vec3};
-use soft3d::{Band, Camera, Lights, Model, RenderOptions};
+use soft3d::{Band, Camera, Lights, Mat4, Model, RenderOptions, Renderer, Scratch, Vec3};
 
 fuzz_target!(|data: &[u8]| {
     let Ok(model) = Model::parse(data) else { return };
@@ -17,5 +16,6 @@ fuzz_target!(|data: &[u8]| {
     let mut color = [Rgb565::default(); 32 * 8];
     let mut depth = [0u16; 32 * 8];
     let mut band = Band::new(&mut color[..], &mut depth[..], 32, 32, 8).unwrap();
-    soft3d::draw_model(&mut band, &model, Mat4::IDENTITY, &camera, &lights, &RenderOptions::default());
+    let renderer = Renderer::new(&camera, &lights, RenderOptions::default());
+    renderer.draw(&mut band, &model, Mat4::IDENTITY, &mut Scratch::none()).expect("stored order needs no scratch");
 });
