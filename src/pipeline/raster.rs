@@ -265,9 +265,9 @@ impl<const V: usize> Setup<V> {
         let min_y = a.y.min(b.y).min(c.y);
         let max_y = a.y.max(b.y).max(c.y);
         let x0 = ceil_div(min_x - 8, 16).max(0);
-        let x1 = floor_div(max_x - 8, 16).min(win.width - 1);
+        let x1 = floor_div(max_x - 8, 16).min(win.width.saturating_sub(1));
         let y0 = ceil_div(min_y - 8, 16).max(win.row_start);
-        let y1 = floor_div(max_y - 8, 16).min(win.row_end - 1);
+        let y1 = floor_div(max_y - 8, 16).min(win.row_end.saturating_sub(1));
         if x0 > x1 || y0 > y1 {
             return Err(Reject::Empty);
         }
@@ -584,14 +584,17 @@ impl<const V: usize> AffinePlanes<V> {
         let per_pixel = |c: i32| (c * 16) as f32 * inv_area;
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), edges[1].c as f32 * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), edges[2].c as f32 * inv_area);
-        let (w, h) = (width.max(0) as f32, height.max(0) as f32);
+        // At least one pixel each way: the bound below must hold `gx` and `gy` themselves too
+        // (the per-pixel step is `gx`, rounded), also for a box one column or row wide.
+        let (w, h) = (width.max(1) as f32, height.max(1) as f32);
         let mut p = AffinePlanes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
         for k in 0..V {
             let (d1, d2) = (d1[k] * 256.0, d2[k] * 256.0);
             // Relative to vertex 0's value, added back in integers: large values (e.g. world
             // positions) keep their precision.
             let (o, gx, gy) = (d1 * b1o + d2 * b2o, d1 * b1x + d2 * b2x, d1 * b1y + d2 * b2y);
-            // Within 2^30 with f32's rounding (a relative 2^-23) to spare; NaN fails too.
+            // Within 2^30 with f32's rounding (a relative 2^-23) to spare; NaN fails too. So
+            // `origin + gx·x + gy·y` fits i32 for every pixel of the box, and `gx + 128` too.
             let fits = o.abs() + gx.abs() * w + gy.abs() * h < (1u32 << 30) as f32;
             if !fits {
                 return None;
