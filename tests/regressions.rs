@@ -10,7 +10,7 @@ mod common;
 use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
 use soft3d::convert::{emit, EmitOptions};
 use soft3d::testing::{ScreenVertex, Setup, Window, MAX_VARYINGS};
-use soft3d::{Band, Camera, Lights, Mat4, Model, RenderOptions, Renderer, Scratch, Shading, Vec3};
+use soft3d::{Band, Camera, Lights, Mat4, Mode, Model, RenderOptions, Renderer, Scratch, Shading, Vec3};
 
 /// Draws `model` into a `width` x `height` frame in bands of `rows` with every shading.
 fn draw_every_shading(model: &Model<'_>, camera: &Camera, (width, height, rows): (u16, u16, u16)) {
@@ -92,4 +92,41 @@ fn extreme_windows_are_empty_not_a_panic() {
         assert!(Setup::<3>::new(&tri, &win, false, false).is_err(), "{win:?}");
     }
     assert!(Setup::<3>::new(&tri, &Window { width: 10, row_start: 0, row_end: 10 }, false, false).is_ok());
+}
+
+/// A wireframe of a model scaled by 65,536 (and by 1e19, and through a projective transform)
+/// took minutes a frame: clipped vertices saturate and every edge was walked over about 2^28
+/// pixels in every band. Lines are now walked only inside the band: at most its width plus its
+/// rows a line (a clipped polygon has at most 9 edges a triangle). `line.rs`'s tests walk a line
+/// between saturated ends; this draws whole scenes.
+#[test]
+fn huge_wireframes_walk_only_the_band() {
+    let (w, h, rows) = (64u16, 48u16, 16u16);
+    let (mut color, mut depth) = (vec![Rgb565::BLACK; 64 * 16], vec![0u16; 64 * 16]);
+    let mut projective = Mat4::from_scale(Vec3::splat(3.0));
+    projective.x_axis.w = 0.7;
+    projective.z_axis.w = -0.4;
+    let mut walked = 0;
+    for name in ["double-sided/DoubleSidedMaterial.babylon", "tree/tree.babylon", "suzanne/monkey.babylon"] {
+        let bytes = emit(&common::scene(name), &EmitOptions::default()).unwrap();
+        let model = Model::parse(&bytes).unwrap();
+        let (centre, r) = model.bounds().unwrap();
+        let camera = Camera::perspective(centre - Vec3::Z * 3.0 * r, centre, 0.8, 1.0, 0.1, 100.0 * r).unwrap();
+        let lights = Lights::<2>::from_model(&model);
+        let about_centre = |m: Mat4| Mat4::from_translation(centre) * m * Mat4::from_translation(-centre);
+        for transform in [Mat4::from_scale(Vec3::splat(65_536.0)), Mat4::from_scale(Vec3::splat(1e19)), projective] {
+            for mode in [Mode::Wireframe, Mode::SolidWireframe, Mode::Points] {
+                let renderer = Renderer::new(&camera, &lights, RenderOptions { mode, ..RenderOptions::default() });
+                for first_row in (0..h).step_by(rows as usize) {
+                    let mut band = Band::new(&mut color[..], &mut depth[..], w, h, first_row).unwrap();
+                    let stats =
+                        renderer.draw(&mut band, &model, about_centre(transform), &mut Scratch::none()).unwrap();
+                    let bound = (w as u32 + rows as u32) * 9 * stats.triangles_submitted;
+                    assert!(stats.line_steps <= bound, "{name} {mode:?}: {} steps, bound {bound}", stats.line_steps);
+                    walked += stats.line_steps;
+                }
+            }
+        }
+    }
+    assert!(walked > 0, "some lines are drawn");
 }

@@ -136,6 +136,9 @@ pub struct Stats {
     pub drawn: u32,
     /// Pixels written.
     pub pixels_written: u32,
+    /// Steps wireframe lines walked: only those inside the band, so at most the band's width
+    /// or rows a line, however far off screen its ends are.
+    pub line_steps: u32,
     /// Runs of covered pixels handed to the span loop (each a row, or part of a row, of a
     /// triangle): what the per-row and per-run costs are measured against.
     pub runs: u32,
@@ -169,6 +172,7 @@ impl core::ops::AddAssign for Stats {
         self.drawn += o.drawn;
         self.pixels_written += o.pixels_written;
         self.runs += o.runs;
+        self.line_steps += o.line_steps;
         self.depth_rejected += o.depth_rejected;
         self.outside_band += o.outside_band;
     }
