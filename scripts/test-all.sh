@@ -19,6 +19,7 @@ fi
 
 step "format and lints"
 cargo fmt --all -- --check
+(cd fuzz && cargo fmt -- --check)
 cargo clippy --all-targets -- -D warnings
 # No function of the library or the CLI over 80 lines (clippy.toml), except where a comment
 # gives the measurement that splitting it would cost.
@@ -27,7 +28,7 @@ cargo clippy --lib --bins --features cli,embedded-graphics -- -D warnings -W cli
 step "API docs (no broken or private links)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features convert,embedded-graphics
 
-step "fuzz targets compile (cargo check; scripts run them)"
+step "fuzz targets compile (cargo check)"
 cargo check --quiet --manifest-path fuzz/Cargo.toml --bins
 
 step "host tests"
@@ -40,6 +41,12 @@ done
 
 step "demo, headless"
 cargo run --release --example simulator -- --headless --frames 4
+
+step "short fuzz of every target (debug assertions on; installs cargo-fuzz)"
+for target in parse babylon draw buffers; do
+  echo "-- $target"
+  scripts/fuzz.sh "$target" 40
+done
 
 if [ -x scripts/qemu-check.sh ]; then
   step "QEMU firmware (Cortex-M4F and thumbv6m) and the host comparison"

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Runs one fuzz target for a while: scripts/fuzz.sh TARGET SECONDS [CORPUS_DIR]
+#
+# Targets (fuzz/fuzz_targets): parse (.s3d bytes, then every accessor and a small draw),
+# babylon (the .babylon reader and the .s3d writer), draw (a seed model drawn with arbitrary
+# cameras, transforms, options, lights, bands, pixel and depth formats and scratch sizes),
+# buffers (every entry point given memory of the wrong size). Built with debug assertions
+# (overflow is a crash) and no sanitizer (`-s none`: the crate is safe code), which works on the
+# stable toolchain. Seeds come from fuzz/seeds/TARGET when it exists; the corpus grows in
+# CORPUS_DIR (default: a temporary folder). A crash leaves its input in fuzz/artifacts/TARGET/
+# and exits non-zero: make it a regression test (tests/regressions.rs).
+# Installs cargo-fuzz when it is missing.
+set -euo pipefail
+target="${1:?usage: scripts/fuzz.sh TARGET SECONDS [CORPUS_DIR]}"
+seconds="${2:?usage: scripts/fuzz.sh TARGET SECONDS [CORPUS_DIR]}"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root/fuzz"
+
+if ! cargo fuzz --version >/dev/null 2>&1; then
+    echo "fuzz: installing cargo-fuzz" >&2
+    cargo install --locked cargo-fuzz >&2
+fi
+
+corpus="${3:-}"
+if [ -z "$corpus" ]; then
+    corpus="$(mktemp -d)"
+    trap 'rm -rf "$corpus"' EXIT
+fi
+seeds=()
+[ -d "seeds/$target" ] && seeds=("seeds/$target")
+
+log="$(mktemp)"
+status=0
+cargo fuzz run -s none --debug-assertions "$target" "$corpus" "${seeds[@]}" -- \
+    -max_total_time="$seconds" -rss_limit_mb=4096 -timeout=20 -print_final_stats=1 >"$log" 2>&1 || status=$?
+grep -E '^(Done|stat::number_of_executed_units)' "$log" || true
+if [ "$status" -ne 0 ]; then
+    tail -n 60 "$log"
+    echo "fuzz: $target FAILED (status $status): the input is in fuzz/artifacts/$target/" >&2
+fi
+rm -f "$log"
+exit "$status"
