@@ -7,6 +7,8 @@
 #     reference coverage) on the M4F; 14,456 on thumbv6m, whose firmware draws with 16-bit
 #     positions and the fixed-point vertex path (RenderOptions::fixed_vertices), within 1/16
 #     pixel of f32, which moves one edge pixel.
+# Then the development (overflow-checked) build of both, on the reference frame and the two
+# other benchmark views (features view-far, view-near): no panic, and the same reference frame.
 # Frames: out/qemu-frame-m4.rgb565 and out/qemu-frame-m0.rgb565 (little-endian RGB565, 240x240,
 # row-major, no header): tests/qemu_frame.rs checks each is bit-identical to the host's
 # rendering with the same model and options.
@@ -73,6 +75,32 @@ for config in "${configs[@]}"; do
         failed=1
     fi
 done
+
+# The development build (examples/qemu's dev profile: overflow checks and debug assertions on,
+# as a firmware's everyday build has them) of both targets, on the reference frame and the two
+# other benchmark views: it must not panic, and its reference frame must equal the release one.
+for config in "${configs[@]}"; do
+    read -r target machine cpu suffix expected_covered <<<"$config"
+    for view in "" view-far view-near; do
+        echo "== dev profile, $target on $machine ($cpu)${view:+, $view}"
+        (cd "$fw" && cargo build --quiet --target "$target" ${view:+--features "$view"})
+        rm -f "$out/qemu-frame.rgb565"
+        set +e
+        json="$(cd "$root" && timeout 600 qemu-system-arm -machine "$machine" -cpu "$cpu" -nographic -monitor none \
+            -serial none -semihosting-config enable=on,target=native -kernel "$fw/target/$target/debug/soft3d-qemu")"
+        status=$?
+        set -e
+        echo "$json"
+        if [ "$status" -ne 0 ]; then
+            echo "FAIL: dev profile, $target ${view}: QEMU exited with status $status (a panic exits non-zero)" >&2
+            failed=1
+        elif [ -z "$view" ] && ! cmp -s "$out/qemu-frame.rgb565" "$out/qemu-frame-$suffix.rgb565"; then
+            echo "FAIL: dev profile, $target: its frame differs from the release build's" >&2
+            failed=1
+        fi
+    done
+done
+rm -f "$out/qemu-frame.rgb565"
 
 echo "frames: $out/qemu-frame-m4.rgb565 $out/qemu-frame-m0.rgb565"
 if [ "$failed" -ne 0 ]; then
