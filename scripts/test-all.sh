@@ -21,6 +21,7 @@ step "format and lints"
 cargo fmt --all -- --check
 (cd fuzz && cargo fmt -- --check)
 cargo clippy --all-targets -- -D warnings
+cargo clippy --lib --features checked-spans -- -D warnings
 # No function of the library or the CLI over 80 lines (clippy.toml), except where a comment
 # gives the measurement that splitting it would cost.
 cargo clippy --lib --bins --features cli,embedded-graphics -- -D warnings -W clippy::too_many_lines
@@ -33,6 +34,9 @@ cargo check --quiet --manifest-path fuzz/Cargo.toml --bins
 
 step "host tests"
 cargo test
+
+step "the span loop's checked twin draws the same pictures, bit for bit (golden hashes, firmware frames)"
+cargo test --features checked-spans --test golden --test qemu_frame --test bands --test fill_rule
 
 step "core library for the MCU targets (no_std, no alloc, default features)"
 for t in thumbv6m-none-eabi thumbv7em-none-eabihf riscv32imc-unknown-none-elf; do

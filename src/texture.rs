@@ -150,6 +150,8 @@ impl<'a> Repeat565<'a> {
     pub fn new(sampler: &Sampler<'a>) -> Option<Self> {
         let t = &sampler.texture;
         let texels = t.texels.as_chunks::<2>().0;
+        // Width and height are powers of two (both masks are set) and at least 1, so is their
+        // product, the length: `texels_and_index` relies on it.
         let fits = t.format == TextureFormat::Rgb565
             && sampler.filter == Filter::Nearest
             && sampler.u.mask >= 0
@@ -170,10 +172,18 @@ impl<'a> Repeat565<'a> {
     #[inline(always)]
     #[must_use]
     pub fn texel(&self, u: i32, v: i32) -> u16 {
-        // Row bits above the texture wrap away with the final mask (the size is a power of
-        // two), which is also what lets the compiler see that the index is in bounds.
+        let (texels, i) = self.texels_and_index(u, v);
+        texels.get(i).map_or(0, |b| u16::from_le_bytes(*b))
+    }
+
+    /// The texels, and the index in them of the texel at `(u, v)` (16.16): always below their
+    /// length, which [`Repeat565::new`] made a power of two of at least 1 (width and height are
+    /// powers of two), as the index is masked with `length - 1`.
+    #[inline(always)]
+    pub(crate) fn texels_and_index(&self, u: i32, v: i32) -> (&'a [[u8; 2]], usize) {
+        // Row bits above the texture wrap away with the final mask (the size is a power of two).
         let at = (((v >> 16) << self.width_shift) | ((u >> 16) & self.u_mask)) as usize;
-        self.texels.get(at & self.texels.len().wrapping_sub(1)).map_or(0, |b| u16::from_le_bytes(*b))
+        (self.texels, at & self.texels.len().wrapping_sub(1))
     }
 }
 

@@ -3,61 +3,18 @@
 //! store). It does not find which pixels are covered (`raster` does).
 
 use super::primitive::Surface;
-use super::raster::{step_varyings, Reject, ScreenVertex, Setup, Span, SpanSink, Window};
-use super::varyings::{is_texel_coordinate, texel_coordinates, PixelLit, VertexLit};
+use super::raster::{Reject, ScreenVertex, Setup, Window};
+use super::span::{Base, Diffuse, Shader};
+use super::varyings::{is_texel_coordinate, PixelLit, VertexLit};
 use super::{Context, Shading, Stats};
 use crate::fixed::FDot16;
 
 use crate::light::PixelLights;
-use crate::target::{Band, BandArea, DepthBuffer, DepthCell, FrameColor};
-use crate::texture::{modulate, Repeat565, Sampler};
-
-/// Where a fragment's unlit colour comes from.
-trait Base: Copy {
-    /// The colour at texel coordinates `(u, v)`, or `None` for a cut-out texel.
-    fn base(&self, u: i32, v: i32) -> Option<[u8; 3]>;
-
-    /// That colour lit by `light` (16.16 per channel) in the frame's format.
-    #[inline(always)]
-    fn lit<C: FrameColor>(&self, u: i32, v: i32, light: [i32; 3]) -> Option<C> {
-        self.base(u, v).map(|rgb| C::from_rgb888(modulate(rgb, light)))
-    }
-}
-
-/// Untextured: the material's diffuse colour.
-#[derive(Clone, Copy)]
-struct Diffuse([u8; 3]);
-
-impl Base for Diffuse {
-    #[inline]
-    fn base(&self, _: i32, _: i32) -> Option<[u8; 3]> {
-        Some(self.0)
-    }
-}
-
-impl Base for Repeat565<'_> {
-    #[inline(always)]
-    fn base(&self, u: i32, v: i32) -> Option<[u8; 3]> {
-        Some(self.sample(u, v))
-    }
-
-    /// Straight from the RGB565 texel (RGB565 frames never widen it to 8 bits).
-    #[inline(always)]
-    fn lit<C: FrameColor>(&self, u: i32, v: i32, light: [i32; 3]) -> Option<C> {
-        Some(C::from_lit_rgb565(self.texel(u, v), light))
-    }
-}
-
-impl Base for Sampler<'_> {
-    #[inline(always)]
-    fn base(&self, u: i32, v: i32) -> Option<[u8; 3]> {
-        let t = self.sample(u, v);
-        (t[3] >= 128).then_some([t[0], t[1], t[2]])
-    }
-}
+use crate::target::{Band, DepthBuffer, FrameColor};
+use crate::texture::{modulate, Repeat565};
 
 /// Where a fragment's light comes from.
-trait Lighting {
+pub(super) trait Lighting {
     /// Light per channel in 16.16 (1.0 = 65536) from the pixel's varyings.
     fn light<const V: usize>(&self, v: &[FDot16; V]) -> [FDot16; 3];
     /// Whether [`Lighting::highlight`] can be other than black.
@@ -238,78 +195,6 @@ enum LitBy {
     VertexAndSpecular,
     /// Phong: normal and position per pixel.
     Pixel,
-}
-
-/// The per-pixel work for one triangle: depth test, base colour (alpha test), light, store.
-struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
-    color: &'b mut [C],
-    depth: &'b mut D,
-    area: BandArea,
-    base: &'s B,
-    lighting: &'s Lt,
-    written: u32,
-    rejected: u32,
-    runs: u32,
-}
-
-impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool> SpanSink<V>
-    for Shader<'_, '_, C, D, B, Lt, DITHER>
-{
-    #[inline(never)]
-    fn span(&mut self, s: &Span<V>) {
-        let len = s.len as usize;
-        // The run must lie on one row of this band (the rasterizer guarantees it); checked
-        // anyway.
-        let Some(start) = self.area.run_start(s.x, s.y, len) else {
-            return;
-        };
-        let (Some(colors), Some(cells)) = (self.color.get_mut(start..start + len), self.depth.cells(start, len)) else {
-            return;
-        };
-        let (mut z, mut v) = (s.z, s.v);
-        // Local copies: the loop keeps them in registers instead of reloading through `self`.
-        let base = *self.base;
-        let (mut rejected, mut cut) = (0, 0);
-        for (k, (px, mut cell)) in colors.iter_mut().zip(cells).enumerate() {
-            if !cell.passes(z) {
-                rejected += 1;
-                // A cut-out texel writes neither colour nor depth.
-            } else if let Some(c) = lit_fragment::<C, B, Lt, V, DITHER>(&base, self.lighting, &v, (s.x + k as i32, s.y))
-            {
-                *px = c;
-                cell.store(z);
-            } else {
-                cut += 1;
-            }
-            z = z.wrapping_add_signed(s.dz);
-            step_varyings(&mut v, &s.dv);
-        }
-        self.written += s.len - rejected - cut;
-        self.rejected += rejected;
-        self.runs += 1;
-    }
-}
-
-/// The lit colour of the fragment with varyings `v` at `(x, y)`, or `None` where the texture
-/// cuts it out.
-#[inline(always)]
-fn lit_fragment<C: FrameColor, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
-    base: &B,
-    lighting: &Lt,
-    v: &[i32; V],
-    (x, y): (i32, i32),
-) -> Option<C> {
-    let light = lighting.light(v);
-    if !DITHER && !Lt::HIGHLIGHT {
-        // Straight to the frame's format (RGB565 stays RGB565).
-        let (u, tv) = texel_coordinates(v);
-        return base.lit(u, tv, light);
-    }
-    let (u, tv) = texel_coordinates(v);
-    let rgb = modulate(base.base(u, tv)?, light);
-    let extra = lighting.highlight(v);
-    let rgb: [u8; 3] = core::array::from_fn(|c| rgb[c].saturating_add(extra[c]));
-    Some(if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) })
 }
 
 impl LitBy {

@@ -26,6 +26,7 @@ mod primitive;
 pub(crate) mod raster;
 mod scratch;
 mod sort;
+mod span;
 mod varyings;
 mod vertex;
 

@@ -1,0 +1,169 @@
+//! The span loop: the per-pixel work of a triangle (depth test, base colour, light, store)
+//! over each run of pixels the rasterizer hands out, and where a pixel's base colour comes
+//! from ([`Base`]). It does not choose the variant (`fragment` does) or find the pixels (`raster`
+//! does).
+//!
+//! # `unsafe`
+//! This is the one module where soft3d uses `unsafe`, to drop bounds checks that the set-up
+//! and the band have already proved; every block names the check that proves it in a
+//! `// SAFETY:` line. The feature `checked-spans` builds the checked twin instead (the same
+//! code with the bounds checks kept); `.ci/run` renders every golden picture and the firmware
+//! frames with both builds, and both must equal the recorded hashes bit for bit.
+#![allow(unsafe_code)]
+
+use super::fragment::Lighting;
+use super::raster::{step_varyings, Span, SpanSink};
+use super::varyings::texel_coordinates;
+use crate::target::{BandArea, DepthBuffer, DepthCell, FrameColor};
+use crate::texture::{modulate, Repeat565, Sampler};
+
+/// Where a fragment's unlit colour comes from.
+pub(super) trait Base: Copy {
+    /// The colour at texel coordinates `(u, v)`, or `None` for a cut-out texel.
+    fn base(&self, u: i32, v: i32) -> Option<[u8; 3]>;
+
+    /// That colour lit by `light` (16.16 per channel) in the frame's format.
+    #[inline(always)]
+    fn lit<C: FrameColor>(&self, u: i32, v: i32, light: [i32; 3]) -> Option<C> {
+        self.base(u, v).map(|rgb| C::from_rgb888(modulate(rgb, light)))
+    }
+}
+
+/// Untextured: the material's diffuse colour.
+#[derive(Clone, Copy)]
+pub(super) struct Diffuse(pub(super) [u8; 3]);
+
+impl Base for Diffuse {
+    #[inline]
+    fn base(&self, _: i32, _: i32) -> Option<[u8; 3]> {
+        Some(self.0)
+    }
+}
+
+impl Base for Repeat565<'_> {
+    #[inline(always)]
+    fn base(&self, u: i32, v: i32) -> Option<[u8; 3]> {
+        Some(self.sample(u, v))
+    }
+
+    /// Straight from the RGB565 texel (RGB565 frames never widen it to 8 bits).
+    #[inline(always)]
+    fn lit<C: FrameColor>(&self, u: i32, v: i32, light: [i32; 3]) -> Option<C> {
+        Some(C::from_lit_rgb565(texel565(self, u, v), light))
+    }
+}
+
+impl Base for Sampler<'_> {
+    #[inline(always)]
+    fn base(&self, u: i32, v: i32) -> Option<[u8; 3]> {
+        let t = self.sample(u, v);
+        (t[3] >= 128).then_some([t[0], t[1], t[2]])
+    }
+}
+
+/// The per-pixel work for one triangle: depth test, base colour (alpha test), light, store.
+pub(super) struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
+    /// The band's colour slice: exactly `rows · width` entries (`Band::new` checked it).
+    pub(super) color: &'b mut [C],
+    pub(super) depth: &'b mut D,
+    /// The same band's place in the frame.
+    pub(super) area: BandArea,
+    pub(super) base: &'s B,
+    pub(super) lighting: &'s Lt,
+    pub(super) written: u32,
+    pub(super) rejected: u32,
+    pub(super) runs: u32,
+}
+
+impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool> SpanSink<V>
+    for Shader<'_, '_, C, D, B, Lt, DITHER>
+{
+    #[inline(never)]
+    fn span(&mut self, s: &Span<V>) {
+        let len = s.len as usize;
+        // The run must lie on one row of this band (the rasterizer guarantees it); checked
+        // anyway.
+        let Some(start) = self.area.run_start(s.x, s.y, len) else {
+            return;
+        };
+        let (Some(colors), Some(cells)) = (colors_of(self.color, start, len), self.depth.cells(start, len)) else {
+            return;
+        };
+        let (mut z, mut v) = (s.z, s.v);
+        // Local copies: the loop keeps them in registers instead of reloading through `self`.
+        let base = *self.base;
+        let (mut rejected, mut cut) = (0, 0);
+        for (k, (px, mut cell)) in colors.iter_mut().zip(cells).enumerate() {
+            if !cell.passes(z) {
+                rejected += 1;
+                // A cut-out texel writes neither colour nor depth.
+            } else if let Some(c) = lit_fragment::<C, B, Lt, V, DITHER>(&base, self.lighting, &v, (s.x + k as i32, s.y))
+            {
+                *px = c;
+                cell.store(z);
+            } else {
+                cut += 1;
+            }
+            z = z.wrapping_add_signed(s.dz);
+            step_varyings(&mut v, &s.dv);
+        }
+        self.written += s.len - rejected - cut;
+        self.rejected += rejected;
+        self.runs += 1;
+    }
+}
+
+/// The lit colour of the fragment with varyings `v` at `(x, y)`, or `None` where the texture
+/// cuts it out.
+#[inline(always)]
+fn lit_fragment<C: FrameColor, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
+    base: &B,
+    lighting: &Lt,
+    v: &[i32; V],
+    (x, y): (i32, i32),
+) -> Option<C> {
+    let light = lighting.light(v);
+    if !DITHER && !Lt::HIGHLIGHT {
+        // Straight to the frame's format (RGB565 stays RGB565).
+        let (u, tv) = texel_coordinates(v);
+        return base.lit(u, tv, light);
+    }
+    let (u, tv) = texel_coordinates(v);
+    let rgb = modulate(base.base(u, tv)?, light);
+    let extra = lighting.highlight(v);
+    let rgb: [u8; 3] = core::array::from_fn(|c| rgb[c].saturating_add(extra[c]));
+    Some(if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) })
+}
+
+/// The colour entries of a run that [`BandArea::run_start`] placed at `start` in the band.
+#[inline(always)]
+fn colors_of<C>(color: &mut [C], start: usize, len: usize) -> Option<&mut [C]> {
+    #[cfg(feature = "checked-spans")]
+    {
+        color.get_mut(start..start + len)
+    }
+    #[cfg(not(feature = "checked-spans"))]
+    {
+        debug_assert!(start + len <= color.len());
+        // SAFETY: `BandArea::run_start` gave `start` only with `start + len <= rows · width`, and
+        // `Band::new` made the band's colour slice exactly `rows · width` entries long.
+        Some(unsafe { color.get_unchecked_mut(start..start + len) })
+    }
+}
+
+/// The RGB565 texel at texel coordinates `(u, v)` (16.16) of a [`Repeat565`] texture.
+#[inline(always)]
+fn texel565(texture: &Repeat565<'_>, u: i32, v: i32) -> u16 {
+    let (texels, i) = texture.texels_and_index(u, v);
+    #[cfg(feature = "checked-spans")]
+    let texel = texels.get(i).copied().unwrap_or_default();
+    #[cfg(not(feature = "checked-spans"))]
+    let texel = {
+        debug_assert!(i < texels.len());
+        // SAFETY: `Repeat565::texels_and_index` masks `i` with `texels.len() - 1`, and
+        // `Repeat565::new` made that length a power of two of at least 1 (width · height, both
+        // powers of two), so `i < texels.len()`.
+        unsafe { *texels.get_unchecked(i) }
+    };
+    u16::from_le_bytes(texel)
+}
