@@ -34,6 +34,19 @@ configs=(
     "thumbv6m-none-eabi mps2-an385 cortex-m3 m0 14456"
 )
 
+# Runs firmware ELF on MACHINE/CPU under QEMU for at most SECONDS, from the repository root (the
+# firmware writes out/qemu-frame.rgb565 relative to QEMU's working directory); prints and sets
+# JSON (its output) and STATUS (QEMU's exit status: a panic exits non-zero, 124 = timed out).
+run_firmware() {
+    local elf="$1" machine="$2" cpu="$3" seconds="$4"
+    set +e
+    JSON="$(cd "$root" && timeout "$seconds" qemu-system-arm -machine "$machine" -cpu "$cpu" -nographic \
+        -monitor none -serial none -semihosting-config enable=on,target=native -kernel "$elf")"
+    STATUS=$?
+    set -e
+    echo "$JSON"
+}
+
 failed=0
 for config in "${configs[@]}"; do
     read -r target machine cpu suffix expected_covered <<<"$config"
@@ -42,13 +55,8 @@ for config in "${configs[@]}"; do
     elf="$fw/target/$target/release/soft3d-qemu"
     frame="$out/qemu-frame-$suffix.rgb565"
     rm -f "$out/qemu-frame.rgb565" "$frame"
-    # The firmware writes out/qemu-frame.rgb565 relative to QEMU's working directory.
-    set +e
-    json="$(cd "$root" && timeout 300 qemu-system-arm -machine "$machine" -cpu "$cpu" -nographic -monitor none \
-        -serial none -semihosting-config enable=on,target=native -kernel "$elf")"
-    status=$?
-    set -e
-    echo "$json"
+    run_firmware "$elf" "$machine" "$cpu" 300
+    json="$JSON" status="$STATUS"
     if [ "$status" -ne 0 ]; then
         echo "FAIL: $target: QEMU exited with status $status (124 = timed out)" >&2
         failed=1
@@ -85,12 +93,8 @@ for config in "${configs[@]}"; do
         echo "== dev profile, $target on $machine ($cpu)${view:+, $view}"
         (cd "$fw" && cargo build --quiet --target "$target" ${view:+--features "$view"})
         rm -f "$out/qemu-frame.rgb565"
-        set +e
-        json="$(cd "$root" && timeout 600 qemu-system-arm -machine "$machine" -cpu "$cpu" -nographic -monitor none \
-            -serial none -semihosting-config enable=on,target=native -kernel "$fw/target/$target/debug/soft3d-qemu")"
-        status=$?
-        set -e
-        echo "$json"
+        run_firmware "$fw/target/$target/debug/soft3d-qemu" "$machine" "$cpu" 600
+        status="$STATUS"
         if [ "$status" -ne 0 ]; then
             echo "FAIL: dev profile, $target ${view}: QEMU exited with status $status (a panic exits non-zero)" >&2
             failed=1
