@@ -12,7 +12,7 @@
 //! `d` dithering, `t` textures, space pause, Escape or `q` quit.
 //!
 //! [`render_frame`] is the part to copy into firmware: two band-sized buffers allocated once,
-//! and for each band `Band::new` → `clear` → `draw_model` → HUD via embedded-graphics →
+//! and for each band `Band::new` → `clear` → `Renderer::draw` → HUD via embedded-graphics →
 //! `present` onto any `DrawTarget` (here a `SimulatorDisplay`, on a board the display driver).
 
 use std::fmt::Write as _;

@@ -5,8 +5,9 @@
 # babylon (the .babylon reader and the .s3d writer), draw (a seed model drawn with arbitrary
 # cameras, transforms, options, lights, bands, pixel and depth formats and scratch sizes),
 # buffers (every entry point given memory of the wrong size). Built with debug assertions
-# (overflow is a crash) and no sanitizer (`-s none`: the crate is safe code), which works on the
-# stable toolchain. Seeds come from fuzz/seeds/TARGET when it exists; the corpus grows in
+# (overflow is a crash, and the span loop's debug_assert!s check the bounds its unsafe blocks
+# skip) and no sanitizer (`-s none`: outside src/pipeline/span.rs the crate is safe code),
+# which works on the stable toolchain. Seeds come from fuzz/seeds/TARGET when it exists; the corpus grows in
 # CORPUS_DIR (default: a temporary folder). A crash leaves its input in fuzz/artifacts/TARGET/
 # and exits non-zero: make it a regression test (tests/regressions.rs).
 # Installs cargo-fuzz when it is missing.
@@ -31,7 +32,7 @@ seeds=()
 
 log="$(mktemp)"
 status=0
-cargo fuzz run -s none --debug-assertions "$target" "$corpus" "${seeds[@]}" -- \
+cargo fuzz run -s none --debug-assertions "$target" "$corpus" ${seeds[@]+"${seeds[@]}"} -- \
     -max_total_time="$seconds" -rss_limit_mb=4096 -timeout=20 -print_final_stats=1 >"$log" 2>&1 || status=$?
 grep -E '^(Done|stat::number_of_executed_units)' "$log" || true
 if [ "$status" -ne 0 ]; then

@@ -10,11 +10,21 @@ step "toolchain targets"
 rustup target add thumbv6m-none-eabi thumbv7em-none-eabihf riscv32imc-unknown-none-elf
 rustup component add clippy rustfmt >/dev/null 2>&1 || true
 
-if ! command -v qemu-system-arm >/dev/null; then
-  step "installing qemu-system-arm"
+# qemu-system-arm for the firmware; a C++ compiler for libFuzzer (cargo-fuzz's runtime).
+missing=()
+command -v qemu-system-arm >/dev/null || missing+=(qemu-system-arm)
+command -v c++ >/dev/null || missing+=(g++)
+if [ "${#missing[@]}" -gt 0 ]; then
+  step "installing ${missing[*]}"
   if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
   $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends qemu-system-arm
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+step "unsafe only in the span loop (src/pipeline/span.rs)"
+if grep -rn --include='*.rs' -E '\bunsafe\b' src | grep -v '^src/pipeline/span.rs:' | grep -v -E 'unsafe_code|// |//!|/// '; then
+  echo "unsafe outside src/pipeline/span.rs" >&2
+  exit 1
 fi
 
 step "format and lints"
@@ -33,6 +43,8 @@ step "fuzz targets compile (cargo check)"
 cargo check --quiet --manifest-path fuzz/Cargo.toml --bins
 
 step "host tests"
+# The golden pictures need ../shared/assets: here a missing folder fails instead of skipping.
+export SOFT3D_REQUIRE_GOLDEN=1
 cargo test
 
 step "the span loop's checked twin draws the same pictures, bit for bit (golden hashes, firmware frames)"

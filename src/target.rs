@@ -2,7 +2,8 @@
 //!
 //! A band is `rows` full-width rows starting at `first_row` of a `width` x `height` frame;
 //! a whole frame is the band with `first_row = 0` and `rows = height`. The renderer only ever
-//! writes inside the slices given here.
+//! writes inside the slices given here. It does not decide what is drawn (the pipeline does)
+//! or talk to a display (`eg` and the caller do).
 
 use core::fmt;
 

@@ -3,7 +3,7 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 use soft3d::convert::{emit, EmitOptions};
 use soft3d::testing::math::Mat4;
 use soft3d::Model;
-use soft3d::{Band, Camera, Lights, Mode, NoDepth, RenderOptions, Shading, TransformedVertex, TriangleRows};
+use soft3d::{Band, Camera, Lights, Mode, NoDepth, RenderOptions, Shading, TransformedVertex, TriangleRows, Vec3};
 use soft3d::{DrawError, DrawOrder, Renderer, Scratch, SortEntry};
 
 mod common;
@@ -132,4 +132,49 @@ fn painters_mode_bands_match_and_cover_like_the_depth_buffer() {
     let mut band = Band::new(&mut color[..], NoDepth, W, H, 0).unwrap();
     let result = painter.draw(&mut band, &model, Mat4::IDENTITY, &mut Scratch::none().with_sort(&mut small));
     assert_eq!(result, Err(DrawError::ScratchTooSmall { needed: 966, given: 10 }));
+}
+
+/// A scratch's rows and vertices belong to one model drawn one way: a second draw with the same
+/// scratch in a frame (the same model moved, another model, other options or lights) draws what
+/// it draws with a fresh scratch, not the first draw's cached vertices.
+#[test]
+fn a_scratch_reused_for_another_draw_in_the_frame_changes_nothing() {
+    let suzanne = model_bytes("suzanne/monkey.babylon");
+    let teapot = model_bytes("teapot/teapot.babylon");
+    let (suzanne, teapot) = (Model::parse(&suzanne).unwrap(), Model::parse(&teapot).unwrap());
+    let cam = camera(&suzanne);
+    let lights = Lights::<4>::from_model(&suzanne);
+    let dim = Lights::<4>::new(Vec3::splat(0.3));
+    let opts = RenderOptions::default();
+    let flat = RenderOptions { shading: Shading::Flat, ..opts };
+    let turned = Mat4::from_rotation_y(1.0);
+    let draw = |scratch: &mut Scratch<'_>, model: &Model<'_>, lights: &Lights<4>, opts, t| {
+        let mut color = vec![Rgb888::new(0, 0, 0); W as usize * H as usize];
+        let mut depth = vec![0u16; W as usize * H as usize];
+        for (k, (c, z)) in color.chunks_mut(W as usize * 16).zip(depth.chunks_mut(W as usize * 16)).enumerate() {
+            let mut band = Band::new(c, z, W, H, k as u16 * 16).unwrap();
+            band.clear(Rgb888::new(10, 20, 30));
+            Renderer::new(&cam, lights, opts).draw(&mut band, model, t, scratch).unwrap();
+        }
+        color
+    };
+    let (mut rows, mut verts) = (vec![TriangleRows::UNKNOWN; 5000], vec![TransformedVertex::UNKNOWN; 5000]);
+    let mut shared = Scratch::none().with_rows(&mut rows).with_vertices(&mut verts);
+    let first = draw(&mut shared, &suzanne, &lights, opts, Mat4::IDENTITY);
+    assert!(first == draw(&mut Scratch::none(), &suzanne, &lights, opts, Mat4::IDENTITY));
+    for (model, lights, opts, t) in [
+        (&suzanne, &lights, opts, turned),
+        (&teapot, &lights, opts, Mat4::IDENTITY),
+        (&suzanne, &dim, opts, Mat4::IDENTITY),
+        (&suzanne, &lights, flat, Mat4::IDENTITY),
+    ] {
+        let fresh = draw(&mut Scratch::none(), model, lights, opts, t);
+        assert!(draw(&mut shared, model, lights, opts, t) == fresh, "{opts:?} {t:?}");
+    }
+    // A new frame forgets the owner: the next draw may use the memory again.
+    shared.new_frame();
+    assert!(
+        draw(&mut shared, &suzanne, &lights, opts, turned)
+            == draw(&mut Scratch::none(), &suzanne, &lights, opts, turned)
+    );
 }

@@ -12,7 +12,7 @@
 //! the commit.
 //!
 //! Without `../shared/assets` (a clone without the shared folder beside it) the test says so and
-//! passes; CI has it.
+//! passes, unless `SOFT3D_REQUIRE_GOLDEN` is set, as the test command sets it.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -98,6 +98,7 @@ fn all_hashes(assets: &Path) -> Vec<String> {
         scenes(assets).into_iter().flat_map(|s| VARIANTS.iter().map(move |v| (s.clone(), *v))).collect();
     let tmp = std::env::temp_dir().join(format!("soft3d-golden-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
+    assert!(!jobs.is_empty(), "no .babylon scene in {}", assets.display());
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     let chunk = jobs.len().div_ceil(threads);
     let lines: Vec<String> = std::thread::scope(|s| {
@@ -125,6 +126,8 @@ fn all_hashes(assets: &Path) -> Vec<String> {
 #[test]
 fn cli_renders_of_every_shared_scene_are_unchanged() {
     let Some(assets) = shared_assets() else {
+        // The test command sets SOFT3D_REQUIRE_GOLDEN: there a missing folder is a failure.
+        assert!(std::env::var_os("SOFT3D_REQUIRE_GOLDEN").is_none(), "no ../shared/assets beside the repository");
         println!("skipped: no ../shared/assets beside the repository");
         return;
     };

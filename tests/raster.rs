@@ -831,7 +831,7 @@ fn varyings_are_perspective_correct() {
 // 6. Robustness (direct: clip + project + setup with raw clip-space vertices)
 // ---------------------------------------------------------------------------------------------
 
-/// Clip space to screen exactly as the pipeline does (`render.rs`'s `project`).
+/// Clip space to screen exactly as the pipeline does (`pipeline/vertex.rs`'s `project`).
 fn project(v: &ClipVertex, (hw, hh): (f32, f32)) -> ScreenVertex {
     let inv_w = 1.0 / v.pos.w;
     let x = (v.pos.x * inv_w + 1.0) * hw;

@@ -48,8 +48,8 @@ fn parse_raster_overflow_draws_without_panicking() {
 
 /// The same overflow from unedited scenes (reported with `double-sided`): a whole model in a
 /// 1x1 frame, Phong, through an orthographic camera framing its bounds (eye 3 radii from the
-/// centre, view 2.2 radii wide and high, near 0.1, far 6 radii), from 300 pseudo-random
-/// directions, for every asset. Every triangle is sub-pixel there: needles with huge gradients
+/// centre, view 2.2 radii wide and high, near 0.1, far 6 radii), along z, its opposite and
+/// 300 pseudo-random directions, for every asset. Every triangle is sub-pixel there: needles with huge gradients
 /// in a box one pixel wide.
 #[test]
 fn whole_models_in_one_pixel_draw_without_panicking() {
@@ -60,11 +60,15 @@ fn whole_models_in_one_pixel_draw_without_panicking() {
         let lights = Lights::<8>::from_model(&model);
         let options = RenderOptions { shading: Shading::Phong, ..RenderOptions::default() };
         let mut state = 1u64;
-        for _ in 0..300 {
+        let mut random = || {
             state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
             let yaw = (state >> 33) as f32 / 2f32.powi(31) * core::f32::consts::TAU;
             let lift = ((state >> 13) & 0xffff) as f32 / 65536.0 * 2.0 - 1.0;
-            let dir = Vec3::new(yaw.cos(), lift, yaw.sin()).normalize();
+            Vec3::new(yaw.cos(), lift, yaw.sin()).normalize()
+        };
+        // The reported direction (eye 3 radii from the centre along -z), its opposite, and more.
+        let directions: Vec<Vec3> = [Vec3::Z, -Vec3::Z].into_iter().chain((0..300).map(|_| random())).collect();
+        for dir in directions {
             let Ok(camera) = Camera::orthographic(centre - dir * 3.0 * r, centre, 2.2 * r, 2.2 * r, 0.1, 6.0 * r)
             else {
                 continue;

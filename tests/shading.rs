@@ -89,7 +89,7 @@ fn uv_sphere(centre: [f64; 3], radius: f64, nu: u32, nv: u32) -> MeshData {
     let pos = |k: u32| DVec3::from(positions[k as usize].map(f64::from));
     let mut push = |t: [u32; 3]| {
         let (p0, p1, p2) = (pos(t[0]), pos(t[1]), pos(t[2]));
-        // Outward when (p2 - p0) x (p1 - p0) points away from the centre (see render.rs).
+        // Outward when (p2 - p0) x (p1 - p0) points away from the centre (see pipeline/vertex.rs).
         let n = (p2 - p0).cross(p1 - p0);
         if n.dot((p0 + p1 + p2) / 3.0 - c) > 0.0 {
             indices.extend_from_slice(&t);
@@ -348,7 +348,7 @@ impl Rays {
     }
 }
 
-/// A vertex as the renderer places it: projected in f32 exactly as `render.rs` does, snapped
+/// A vertex as the renderer places it: projected in f32 exactly as `pipeline/vertex.rs` does, snapped
 /// down to the 1/16-pixel grid (the documented convention), with its clip w.
 #[derive(Clone, Copy, Debug)]
 struct Snapped {
@@ -902,7 +902,7 @@ fn bilinear_matches_f64_reference_within_one_lsb() {
 // 4. Lighting
 // ---------------------------------------------------------------------------------------------
 
-/// `c · light` with light in 16.16 as the renderer rounds it (`render.rs`: light varyings are
+/// `c · light` with light in 16.16 as the renderer rounds it (`pipeline/vertex.rs`: light varyings are
 /// `(light · colour/255 · 65536) as i32`; the pixel is `(c · l + 2^15) >> 16`).
 fn modulate_ref(c: u8, l: i64) -> u8 {
     ((c as i64 * l.clamp(0, 1 << 16) + (1 << 15)) >> 16) as u8

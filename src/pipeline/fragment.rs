@@ -1,6 +1,7 @@
 //! The pixels of a triangle: the shader variant chosen once per triangle (base colour, light,
-//! dithering, number of varyings) and the span loop that runs it (depth test, texel, light,
-//! store). It does not find which pixels are covered (`raster` does).
+//! dithering, number of varyings) and where a fragment's light comes from ([`Lighting`]). It
+//! does not find which pixels are covered (`raster` does) or run the per-pixel loop (`span`
+//! does).
 
 use super::primitive::Surface;
 use super::raster::{Reject, ScreenVertex, Setup, Window};

@@ -11,8 +11,8 @@
 //!    fan it, and hand each triangle to the fill or to `line.rs` (wireframe, points).
 //! 4. `raster.rs`: triangle set-up in integers, edge walks row by row, spans with depth and
 //!    varyings (exact, stepped or affine).
-//! 5. `fragment.rs`: the shader variant chosen once per triangle and the span loop (depth test,
-//!    texel, light, store).
+//! 5. `fragment.rs`: the shader variant chosen once per triangle; `span.rs`: the span loop
+//!    that runs it (depth test, texel, light, store), the one module with `unsafe`.
 //!
 //! `sort.rs` orders triangles back to front for [`DrawOrder::BackToFront`] (painter's
 //! algorithm); `varyings.rs` names what a vertex carries; `scratch.rs` is the caller's memory
@@ -254,6 +254,25 @@ impl<'f, const L: usize> Renderer<'f, L> {
         Renderer { camera, lights, options }
     }
 
+    /// What a [`Scratch`]'s rows and vertices computed by this draw depend on.
+    fn owner(&self, model: &Model<'_>, transform: Mat4, ctx: &Context<'_, L>) -> scratch::Owner {
+        let bits = |m: Mat4| m.to_cols_array().map(f32::to_bits);
+        let l = self.lights;
+        let mix = |h: u32, w: f32| h.rotate_left(7) ^ w.to_bits();
+        let start = [l.ambient, l.specular].iter().flat_map(|v| v.to_array()).fold(l.shininess.to_bits(), mix);
+        let digest = l.lights.iter().fold(start, |h, x| {
+            let words = [x.vector.to_array(), x.diffuse.to_array(), [x.intensity; 3]];
+            words.iter().flatten().fold(h.rotate_left(5) ^ x.kind as u32, |h, &w| mix(h, w))
+        });
+        scratch::Owner {
+            model: (model.bytes().as_ptr() as usize, model.bytes().len()),
+            transform: bits(transform),
+            view_projection: bits(ctx.vp),
+            options: self.options,
+            lights: (core::ptr::from_ref(l) as usize, digest),
+        }
+    }
+
     /// The options it draws with.
     #[must_use]
     pub fn options(&self) -> &RenderOptions {
@@ -280,7 +299,10 @@ impl<'f, const L: usize> Renderer<'f, L> {
     ) -> Result<Stats, DrawError> {
         let ctx = Context::new(band, self.camera, self.lights, &self.options);
         match self.options.order {
-            DrawOrder::AsStored => Ok(draw_all(band, model, transform, &ctx, scratch)),
+            DrawOrder::AsStored if scratch.claim(self.owner(model, transform, &ctx)) => {
+                Ok(draw_all(band, model, transform, &ctx, scratch))
+            }
+            DrawOrder::AsStored => Ok(draw_all(band, model, transform, &ctx, &mut Scratch::none())),
             DrawOrder::BackToFront => sort::draw_back_to_front(band, model, transform, &ctx, scratch),
         }
     }

@@ -24,7 +24,8 @@
 //!   per-pixel step for depth and every varying, so the per-pixel loop only adds.
 //!
 //! Every value here is a function of the triangle and the pixel only, never of the band being
-//! drawn, so a frame drawn in bands is bit-identical to the frame drawn whole.
+//! drawn, so a frame drawn in bands is bit-identical to the frame drawn whole. It does not
+//! decide what a pixel looks like (`fragment` and `span` do) or clip (`clip` does).
 
 use super::varyings::ScreenVaryings;
 use crate::fixed::{
@@ -266,7 +267,7 @@ impl<const V: usize> Setup<V> {
         let max_y = a.y.max(b.y).max(c.y);
         let x0 = ceil_div(min_x - 8, 16).max(0);
         let x1 = floor_div(max_x - 8, 16).min(win.width.saturating_sub(1));
-        let y0 = ceil_div(min_y - 8, 16).max(win.row_start);
+        let y0 = ceil_div(min_y - 8, 16).max(win.row_start.max(0));
         let y1 = floor_div(max_y - 8, 16).min(win.row_end.saturating_sub(1));
         if x0 > x1 || y0 > y1 {
             return Err(Reject::Empty);

@@ -1,6 +1,7 @@
 //! The caller's memory for one frame: which rows each triangle touches, every vertex
 //! transformed and lit, and the painter's sort list. All of it is optional ([`Scratch::none`]
-//! draws the same pictures, only slower); none of it is allocated.
+//! draws the same pictures, only slower); none of it is allocated. Filling it is the stages'
+//! job (`vertex`, `primitive`, `sort`), not this module's.
 
 use core::ops::Range;
 
@@ -18,20 +19,38 @@ use crate::pipeline::raster::ScreenVertex;
 /// - sort entries ([`Scratch::with_sort`], one a triangle): the list
 ///   [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront) sorts.
 ///
-/// A draw whose rows or vertices do not all fit is drawn without them. Rows and vertices depend
-/// on the camera, transforms and lights: call [`Scratch::new_frame`] (or make a new one) at the
-/// start of every frame, then pass the same scratch for each band.
+/// A draw whose rows or vertices do not all fit is drawn without them. Rows and vertices belong
+/// to one model drawn with one transform, camera, options and lights: call
+/// [`Scratch::new_frame`] (or make a new one) at the start of every frame, then pass the same
+/// scratch for each band. A draw of anything else with the same scratch in that frame (another
+/// model, or the same one moved) is drawn without the rows and vertices, correctly but without
+/// their speed: give each model its own scratch.
 pub struct Scratch<'s> {
     rows: &'s mut [TriangleRows],
     vertices: &'s mut [TransformedVertex],
     sort: &'s mut [SortEntry],
+    /// What the rows and vertices were computed for (the first draw since they were reset).
+    owner: Option<Owner>,
+}
+
+/// Everything the cached rows and vertices depend on: the model's bytes, the transform, the
+/// camera's matrix, the options and the lights. A draw with any of them different cannot use
+/// them (it draws without them: the same picture, slower).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Owner {
+    pub(crate) model: (usize, usize),
+    pub(crate) transform: [u32; 16],
+    pub(crate) view_projection: [u32; 16],
+    pub(crate) options: super::RenderOptions,
+    /// Where the lights are, and a digest of their values.
+    pub(crate) lights: (usize, u32),
 }
 
 impl Scratch<'static> {
     /// No scratch memory: every band does all the work, and back-to-front order is refused.
     #[must_use]
     pub fn none() -> Self {
-        Scratch { rows: &mut [], vertices: &mut [], sort: &mut [] }
+        Scratch { rows: &mut [], vertices: &mut [], sort: &mut [], owner: None }
     }
 }
 
@@ -43,7 +62,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         rows.fill(TriangleRows::UNKNOWN);
-        Scratch { rows, vertices: self.vertices, sort: self.sort }
+        Scratch { rows, vertices: self.vertices, sort: self.sort, owner: None }
     }
 
     /// Adds a vertex cache of `vertices` (reset), one entry a vertex.
@@ -53,7 +72,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         vertices.fill(TransformedVertex::UNKNOWN);
-        Scratch { rows: self.rows, vertices, sort: self.sort }
+        Scratch { rows: self.rows, vertices, sort: self.sort, owner: None }
     }
 
     /// Adds the sort list of [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront), one
@@ -63,13 +82,20 @@ impl<'s> Scratch<'s> {
     where
         's: 't,
     {
-        Scratch { rows: self.rows, vertices: self.vertices, sort }
+        Scratch { rows: self.rows, vertices: self.vertices, sort, owner: self.owner }
     }
 
     /// Forgets the rows and vertices of the last frame (call at the start of a frame).
     pub fn new_frame(&mut self) {
         self.rows.fill(TriangleRows::UNKNOWN);
         self.vertices.fill(TransformedVertex::UNKNOWN);
+        self.owner = None;
+    }
+
+    /// Whether a draw for `owner` may use the rows and vertices: it is the first draw since
+    /// they were reset (it becomes their owner), or it draws what their owner drew.
+    pub(crate) fn claim(&mut self, owner: Owner) -> bool {
+        *self.owner.get_or_insert(owner) == owner
     }
 
     /// The rows and vertices of one draw, each when it fits.

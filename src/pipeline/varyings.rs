@@ -15,6 +15,7 @@
 //!
 //! Units: texel coordinates in texels, light in 0..=1, normals and world positions as they
 //! are — all in [`FDot16`] once projected (f32 before: clipping interpolates them in f32).
+//! Computing them is `vertex`'s job; interpolating them is `raster`'s.
 
 use crate::fixed::FDot16;
 
