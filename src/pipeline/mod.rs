@@ -254,6 +254,13 @@ impl<'f, const L: usize> Renderer<'f, L> {
         Renderer { camera, lights, options }
     }
 
+    /// Lets this draw use `scratch`'s rows and vertices if they are its own (see
+    /// [`Scratch::claim`]). Not inlined: the owner's record stays off the draw's stack frame.
+    #[inline(never)]
+    fn claim(&self, scratch: &mut Scratch<'_>, model: &Model<'_>, transform: Mat4, ctx: &Context<'_, L>) {
+        scratch.claim(self.owner(model, transform, ctx));
+    }
+
     /// What a [`Scratch`]'s rows and vertices computed by this draw depend on.
     fn owner(&self, model: &Model<'_>, transform: Mat4, ctx: &Context<'_, L>) -> scratch::Owner {
         let bits = |m: Mat4| m.to_cols_array().map(f32::to_bits);
@@ -299,10 +306,10 @@ impl<'f, const L: usize> Renderer<'f, L> {
     ) -> Result<Stats, DrawError> {
         let ctx = Context::new(band, self.camera, self.lights, &self.options);
         match self.options.order {
-            DrawOrder::AsStored if scratch.claim(self.owner(model, transform, &ctx)) => {
+            DrawOrder::AsStored => {
+                self.claim(scratch, model, transform, &ctx);
                 Ok(draw_all(band, model, transform, &ctx, scratch))
             }
-            DrawOrder::AsStored => Ok(draw_all(band, model, transform, &ctx, &mut Scratch::none())),
             DrawOrder::BackToFront => sort::draw_back_to_front(band, model, transform, &ctx, scratch),
         }
     }

@@ -31,6 +31,8 @@ pub struct Scratch<'s> {
     sort: &'s mut [SortEntry],
     /// What the rows and vertices were computed for (the first draw since they were reset).
     owner: Option<Owner>,
+    /// Whether the current draw is that owner (see [`Scratch::claim`]).
+    owned: bool,
 }
 
 /// Everything the cached rows and vertices depend on: the model's bytes, the transform, the
@@ -50,7 +52,7 @@ impl Scratch<'static> {
     /// No scratch memory: every band does all the work, and back-to-front order is refused.
     #[must_use]
     pub fn none() -> Self {
-        Scratch { rows: &mut [], vertices: &mut [], sort: &mut [], owner: None }
+        Scratch { rows: &mut [], vertices: &mut [], sort: &mut [], owner: None, owned: false }
     }
 }
 
@@ -62,7 +64,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         rows.fill(TriangleRows::UNKNOWN);
-        Scratch { rows, vertices: self.vertices, sort: self.sort, owner: None }
+        Scratch { rows, vertices: self.vertices, sort: self.sort, owner: None, owned: false }
     }
 
     /// Adds a vertex cache of `vertices` (reset), one entry a vertex.
@@ -72,7 +74,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         vertices.fill(TransformedVertex::UNKNOWN);
-        Scratch { rows: self.rows, vertices, sort: self.sort, owner: None }
+        Scratch { rows: self.rows, vertices, sort: self.sort, owner: None, owned: false }
     }
 
     /// Adds the sort list of [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront), one
@@ -82,7 +84,7 @@ impl<'s> Scratch<'s> {
     where
         's: 't,
     {
-        Scratch { rows: self.rows, vertices: self.vertices, sort, owner: self.owner }
+        Scratch { rows: self.rows, vertices: self.vertices, sort, owner: self.owner, owned: false }
     }
 
     /// Forgets the rows and vertices of the last frame (call at the start of a frame).
@@ -92,19 +94,23 @@ impl<'s> Scratch<'s> {
         self.owner = None;
     }
 
-    /// Whether a draw for `owner` may use the rows and vertices: it is the first draw since
-    /// they were reset (it becomes their owner), or it draws what their owner drew.
-    pub(crate) fn claim(&mut self, owner: Owner) -> bool {
-        *self.owner.get_or_insert(owner) == owner
+    /// Starts a draw for `owner`: it may use the rows and vertices when it is the first draw
+    /// since they were reset (it becomes their owner) or draws what their owner drew; otherwise
+    /// [`Scratch::for_draw`] gives it none.
+    pub(crate) fn claim(&mut self, owner: Owner) {
+        self.owned = *self.owner.get_or_insert(owner) == owner;
     }
 
-    /// The rows and vertices of one draw, each when it fits.
+    /// The rows and vertices of one draw, each when it fits and the draw owns them.
     #[inline]
     pub(crate) fn for_draw(
         &mut self,
         triangles: Range<usize>,
         vertices: Range<usize>,
     ) -> (Option<&mut [TriangleRows]>, Option<&mut [TransformedVertex]>) {
+        if !self.owned {
+            return (None, None);
+        }
         (self.rows.get_mut(triangles), self.vertices.get_mut(vertices))
     }
 
