@@ -27,6 +27,7 @@ if [ -z "$corpus" ]; then
     corpus="$(mktemp -d)"
     trap 'rm -rf "$corpus"' EXIT
 fi
+mkdir -p "$corpus"
 seeds=()
 [ -d "seeds/$target" ] && seeds=("seeds/$target")
 
