@@ -263,21 +263,19 @@ impl<'f, const L: usize> Renderer<'f, L> {
 
     /// What a [`Scratch`]'s rows and vertices computed by this draw depend on.
     fn owner(&self, model: &Model<'_>, transform: Mat4, ctx: &Context<'_, L>) -> scratch::Owner {
-        let bits = |m: Mat4| m.to_cols_array().map(f32::to_bits);
-        let l = self.lights;
-        let mix = |h: u32, w: f32| h.rotate_left(7) ^ w.to_bits();
-        let start = [l.ambient, l.specular].iter().flat_map(|v| v.to_array()).fold(l.shininess.to_bits(), mix);
-        let digest = l.lights.iter().fold(start, |h, x| {
-            let words = [x.vector.to_array(), x.diffuse.to_array(), [x.intensity; 3]];
-            words.iter().flatten().fold(h.rotate_left(5) ^ x.kind as u32, |h, &w| mix(h, w))
-        });
-        scratch::Owner {
-            model: (model.bytes().as_ptr() as usize, model.bytes().len()),
-            transform: bits(transform),
-            view_projection: bits(ctx.vp),
-            options: self.options,
-            lights: (core::ptr::from_ref(l) as usize, digest),
+        let (o, l) = (&self.options, self.lights);
+        let mut d = scratch::Digest::new();
+        d.word(model.bytes().as_ptr() as usize as u32).word(model.bytes().len() as u32);
+        d.floats(&transform.to_cols_array()).floats(&ctx.vp.to_cols_array());
+        let wire = o.wire_color.map_or(1 << 24, |[r, g, b]| u32::from_le_bytes([r, g, b, 0]));
+        let flags = [o.textures, o.dither, o.fixed_vertices].iter().fold(0, |f, &b| f << 1 | u32::from(b));
+        d.word(o.shading as u32).word(o.mode as u32).word(o.filter as u32).word(o.order as u32);
+        d.word(o.subspan).word(wire).word(flags);
+        d.floats(&l.ambient.to_array()).floats(&l.specular.to_array()).floats(&[l.shininess]);
+        for x in &l.lights {
+            d.word(x.kind as u32).floats(&x.vector.to_array()).floats(&x.diffuse.to_array()).floats(&[x.intensity]);
         }
+        scratch::Owner(d.finish())
     }
 
     /// The options it draws with.

@@ -35,17 +35,34 @@ pub struct Scratch<'s> {
     owned: bool,
 }
 
-/// Everything the cached rows and vertices depend on: the model's bytes, the transform, the
-/// camera's matrix, the options and the lights. A draw with any of them different cannot use
-/// them (it draws without them: the same picture, slower).
+/// A digest (64-bit FNV-1a) of everything the cached rows and vertices depend on: the model's
+/// bytes (where they are), the transform, the camera's matrix, the options and the lights. A
+/// draw with any of them different cannot use them (it draws without them: the same picture,
+/// slower).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Owner {
-    pub(crate) model: (usize, usize),
-    pub(crate) transform: [u32; 16],
-    pub(crate) view_projection: [u32; 16],
-    pub(crate) options: super::RenderOptions,
-    /// Where the lights are, and a digest of their values.
-    pub(crate) lights: (usize, u32),
+pub(crate) struct Owner(pub(crate) u64);
+
+/// Builds an [`Owner`] word by word.
+pub(crate) struct Digest(u64);
+
+impl Digest {
+    pub(crate) fn new() -> Self {
+        Digest(0xcbf2_9ce4_8422_2325)
+    }
+
+    pub(crate) fn word(&mut self, w: u32) -> &mut Self {
+        self.0 = (self.0 ^ u64::from(w)).wrapping_mul(0x0100_0000_01b3);
+        self
+    }
+
+    /// The floats' bits.
+    pub(crate) fn floats(&mut self, v: &[f32]) -> &mut Self {
+        v.iter().fold(self, |d, x| d.word(x.to_bits()))
+    }
+
+    pub(crate) fn finish(&self) -> u64 {
+        self.0
+    }
 }
 
 impl Scratch<'static> {
