@@ -133,55 +133,21 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
         LitBy::Vertex
     };
     let raster = (&ctx.window, ctx.opts.subspan, lit.affine_tolerance_light());
-    match (lit, ctx.opts.dither) {
-        (LitBy::White, false) => {
-            fragments::<_, _, _, _, { VertexLit::WHITE_LEN }, false>(band, raster, tri, winding, base, &White, stats)
-        }
-        (LitBy::White, true) => {
-            fragments::<_, _, _, _, { VertexLit::WHITE_LEN }, true>(band, raster, tri, winding, base, &White, stats)
-        }
-        (LitBy::Vertex, false) => fragments::<_, _, _, _, { VertexLit::COLOR_LEN }, false>(
-            band,
-            raster,
-            tri,
-            winding,
-            base,
-            &Interpolated,
-            stats,
-        ),
-        (LitBy::Vertex, true) => fragments::<_, _, _, _, { VertexLit::COLOR_LEN }, true>(
-            band,
-            raster,
-            tri,
-            winding,
-            base,
-            &Interpolated,
-            stats,
-        ),
-        (LitBy::VertexAndSpecular, false) => fragments::<_, _, _, _, { VertexLit::SPECULAR_LEN }, false>(
-            band,
-            raster,
-            tri,
-            winding,
-            base,
-            &Specular(specular),
-            stats,
-        ),
-        (LitBy::VertexAndSpecular, true) => fragments::<_, _, _, _, { VertexLit::SPECULAR_LEN }, true>(
-            band,
-            raster,
-            tri,
-            winding,
-            base,
-            &Specular(specular),
-            stats,
-        ),
-        (LitBy::Pixel, false) => {
-            fragments::<_, _, _, _, { PixelLit::LEN }, false>(band, raster, tri, winding, base, pl, stats)
-        }
-        (LitBy::Pixel, true) => {
-            fragments::<_, _, _, _, { PixelLit::LEN }, true>(band, raster, tri, winding, base, pl, stats)
-        }
+    // One monomorphised loop per lighting (with its number of varyings) and dithering.
+    macro_rules! with_dither {
+        ($varyings:expr, $lighting:expr) => {
+            if ctx.opts.dither {
+                fragments::<_, _, _, _, { $varyings }, true>(band, raster, tri, winding, base, $lighting, stats)
+            } else {
+                fragments::<_, _, _, _, { $varyings }, false>(band, raster, tri, winding, base, $lighting, stats)
+            }
+        };
+    }
+    match lit {
+        LitBy::White => with_dither!(VertexLit::WHITE_LEN, &White),
+        LitBy::Vertex => with_dither!(VertexLit::COLOR_LEN, &Interpolated),
+        LitBy::VertexAndSpecular => with_dither!(VertexLit::SPECULAR_LEN, &Specular(specular)),
+        LitBy::Pixel => with_dither!(PixelLit::LEN, pl),
     }
 }
 
