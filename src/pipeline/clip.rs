@@ -140,7 +140,7 @@ pub fn clip_triangle(tri: &[ClipVertex; 3], guard: &GuardBand, out: &mut Polygon
 
 /// Whether the first `checked` varyings of three vertices are all finite.
 #[inline]
-pub(crate) fn finite_varyings(v: &[ClipVaryings; 3], checked: usize) -> bool {
+pub(crate) fn finite_varyings<const N: usize>(v: &[[f32; N]; 3], checked: usize) -> bool {
     // `a · 0` is 0 for every finite `a` and NaN for infinities and NaN: one multiply-add each.
     let junk: f32 = v.iter().flat_map(|v| v.iter().take(checked)).map(|a| a * 0.0).sum();
     junk == 0.0

@@ -9,7 +9,10 @@ use super::line::{line, plot};
 use super::raster::{facing, facing_of, Reject, ScreenVertex};
 use super::scratch::{TransformedVertex, TriangleRows};
 use super::varyings::{PixelLit, VertexLit};
-use super::vertex::{cached, clip_position, project, vertex_light, vertex_varyings, Projected};
+use super::vertex::{
+    cached, clip_position, corner_lights, project, texel, texel_scale, vertex_light, vertex_lit_screen,
+    vertex_varyings, Projected,
+};
 use super::{Context, DrawSetup, Mode, Shading, Stats};
 use crate::format::Material;
 use crate::target::{Band, DepthBuffer, FrameColor};
@@ -104,9 +107,23 @@ fn front_end<const L: usize>(
     let lights = cache.map(|c| {
         idx.map(|i| c.get(i as usize).map_or_else(|| vertex_light(ctx, s, i), TransformedVertex::vertex_light))
     });
-    let varyings = vertex_varyings(ctx, s, &idx, lights, surface.sampler);
-    // Light and specular come from 16-bit integers: only the others can be non-finite.
-    let maybe_not_finite = if ctx.opts.shading == Shading::Phong { PixelLit::LEN } else { VertexLit::LIGHT };
+    let scale = texel_scale(surface.sampler);
+    let phong = ctx.opts.shading == Shading::Phong;
+    if class == ClipResult::Inside && !phong {
+        // The common case, straight to fixed point: light and specular come from 16-bit
+        // integers, so only the texel coordinates can be non-finite.
+        let texels = idx.map(|i| texel(s, i, scale));
+        if !finite_varyings(&texels, 2) {
+            stats.culled_frustum += 1;
+            return Front::Done(TriangleRows::EMPTY);
+        }
+        let lit = corner_lights(ctx, s, &idx, lights);
+        let screen =
+            core::array::from_fn(|k| p[k].screen_vertex(vertex_lit_screen(texels[k], lit[k], s.arrays.color(idx[k]))));
+        return Front::Inside(screen, (area, known_rows));
+    }
+    let varyings = vertex_varyings(ctx, s, &idx, lights, scale);
+    let maybe_not_finite = if phong { PixelLit::LEN } else { VertexLit::LIGHT };
     if !finite_varyings(&varyings, maybe_not_finite) {
         stats.culled_frustum += 1;
         return Front::Done(TriangleRows::EMPTY);

@@ -108,25 +108,22 @@ pub(crate) fn cached<'c, const L: usize>(
     Some(v)
 }
 
-/// The triangle's varyings for the shading mode (see the slot constants). `gouraud`: the
-/// vertices' [`vertex_light`]s when already known.
-pub(crate) fn vertex_varyings<const L: usize>(
+/// The light (and specular) of each corner for the vertex-lit shadings: per vertex (Gouraud),
+/// per face (flat) or full white (unlit, and Phong, which lights per pixel instead).
+/// `gouraud`: the vertices' [`vertex_light`]s when already known.
+pub(crate) fn corner_lights<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     idx: &[u32; 3],
     gouraud: Option<[VertexLight; 3]>,
-    sampler: Option<&Sampler<'_>>,
-) -> [ClipVaryings; 3] {
-    let shading = ctx.opts.shading;
-    let world = || idx.map(|i| world_position(s, i));
-    // Light and specular per vertex (unlit, flat, Gouraud) or nothing (Phong lights per pixel).
-    let lit: [VertexLight; 3] = match shading {
+) -> [VertexLight; 3] {
+    match ctx.opts.shading {
         Shading::Unlit | Shading::Phong => [[u16::MAX, u16::MAX, u16::MAX, 0]; 3],
         Shading::Flat => {
             // Face normal from the world-space triangle. Front faces wind counter-clockwise as
             // seen (y up), and with +z pointing away from the viewer that makes
             // (p2-p0) x (p1-p0) point towards the viewer, i.e. outward.
-            let p = world();
+            let p = idx.map(|i| world_position(s, i));
             let mut n = normalize_or_zero((p[2] - p[0]).cross(p[1] - p[0]));
             if s.flip {
                 n = -n;
@@ -136,26 +133,82 @@ pub(crate) fn vertex_varyings<const L: usize>(
             [quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(centre, n, ctx.eye)]); 3]
         }
         Shading::Gouraud => gouraud.unwrap_or_else(|| idx.map(|i| vertex_light(ctx, s, i))),
-    };
-    let phong_world = if shading == Shading::Phong { world() } else { [Vec3::ZERO; 3] };
-    let tex_size = sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * FDOT16_ONE, sm.height() as f32 * FDOT16_ONE));
+    }
+}
+
+/// The size of `sampler`'s texture in [`FDot16`](crate::fixed::FDot16) texels (zero without
+/// one): what [`texel`] scales texture coordinates by.
+pub(crate) fn texel_scale(sampler: Option<&Sampler<'_>>) -> (f32, f32) {
+    sampler.map_or((0.0, 0.0), |sm| (sm.width() as f32 * FDOT16_ONE, sm.height() as f32 * FDOT16_ONE))
+}
+
+/// Vertex `i`'s texel coordinates (u, v) in f32, scaled by [`texel_scale`].
+#[inline(always)]
+pub(crate) fn texel(s: &DrawSetup<'_>, i: u32, (width, height): (f32, f32)) -> [f32; 2] {
+    let (uv, (o, sc)) = (s.arrays.uv_q(i), s.uv);
+    [(o[0] + uv[0] as f32 * sc[0]) * width, (o[1] + uv[1] as f32 * sc[1]) * height]
+}
+
+/// One light channel times the vertex colour's channel `c` (255 for 1).
+#[inline(always)]
+fn coloured(light: u16, c: u8) -> f32 {
+    // White (no vertex colours) scales by exactly 1: skip the division.
+    if c == 255 {
+        light as f32
+    } else {
+        light as f32 * (c as f32 / 255.0)
+    }
+}
+
+/// [`coloured`] converted to fixed point: for white, the light itself, which is what the float
+/// product converts to (a 16-bit integer is exact in f32), without float operations.
+#[inline(always)]
+fn coloured_fixed(light: u16, c: u8) -> i32 {
+    if c == 255 {
+        i32::from(light)
+    } else {
+        crate::math::to_i32(coloured(light, c))
+    }
+}
+
+/// The varyings of an unclipped, vertex-lit corner, converted as [`project`] converts them:
+/// texel coordinates (saturating), light, specular; the slots no vertex-lit variant reads
+/// stay zero. `texel`: the corner's [`texel`], already checked finite.
+#[inline(always)]
+pub(crate) fn vertex_lit_screen(texel: [f32; 2], light: VertexLight, color: [u8; 4]) -> ScreenVaryings {
+    let mut v = [0; MAX_VARYINGS];
+    v[VertexLit::U] = crate::math::to_i32(texel[0]);
+    v[VertexLit::V] = crate::math::to_i32(texel[1]);
+    for ch in 0..3 {
+        v[VertexLit::LIGHT + ch] = coloured_fixed(light[ch], color[ch]);
+    }
+    v[VertexLit::SPECULAR] = i32::from(light[3]);
+    v
+}
+
+/// The triangle's varyings for the shading mode (see the slot constants), in f32 for clipping.
+/// `gouraud`: the vertices' [`vertex_light`]s when already known; `scale`: [`texel_scale`].
+pub(crate) fn vertex_varyings<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    idx: &[u32; 3],
+    gouraud: Option<[VertexLight; 3]>,
+    scale: (f32, f32),
+) -> [ClipVaryings; 3] {
+    let phong = ctx.opts.shading == Shading::Phong;
+    let lit = if phong { [[0; 4]; 3] } else { corner_lights(ctx, s, idx, gouraud) };
     core::array::from_fn(|k| {
-        let uv = s.arrays.uv_q(idx[k]);
-        let (o, sc) = s.uv;
         let mut varyings = [0.0; MAX_VARYINGS];
-        varyings[VertexLit::U] = (o[0] + uv[0] as f32 * sc[0]) * tex_size.0;
-        varyings[VertexLit::V] = (o[1] + uv[1] as f32 * sc[1]) * tex_size.1;
-        if shading == Shading::Phong {
+        varyings[VertexLit::U..=VertexLit::V].copy_from_slice(&texel(s, idx[k], scale));
+        if phong {
             let n = world_normal(s, idx[k]);
             varyings[PixelLit::NORMAL..PixelLit::NORMAL + 3].copy_from_slice(&(n * FDOT16_ONE).to_array());
-            varyings[PixelLit::POSITION..PixelLit::POSITION + 3]
-                .copy_from_slice(&(phong_world[k] * FDOT16_ONE).to_array());
+            let p = world_position(s, idx[k]) * FDOT16_ONE;
+            varyings[PixelLit::POSITION..PixelLit::POSITION + 3].copy_from_slice(&p.to_array());
         } else {
             let c = s.arrays.color(idx[k]);
             for ch in 0..3 {
-                // White (no vertex colours) scales by exactly 1: skip the division.
-                let scale = if c[ch] == 255 { 1.0 } else { c[ch] as f32 / 255.0 };
-                varyings[VertexLit::LIGHT + ch] = lit[k][ch] as f32 * scale;
+                varyings[VertexLit::LIGHT + ch] = coloured(lit[k][ch], c[ch]);
             }
             varyings[VertexLit::SPECULAR] = lit[k][3] as f32;
         }
