@@ -10,8 +10,8 @@ use super::raster::{facing, facing_of, Reject, ScreenVertex};
 use super::scratch::{TransformedVertex, TriangleRows};
 use super::varyings::{PixelLit, VertexLit};
 use super::vertex::{
-    cached, clip_position, corner_lights, project, texel, texel_scale, vertex_light, vertex_lit_screen,
-    vertex_varyings, Projected,
+    cached_corners, clip_position, corner_lights, project, texel, texel_scale, vertex_lit_screen, vertex_varyings,
+    Projected,
 };
 use super::{Context, DrawSetup, Mode, Shading, Stats};
 use crate::format::Material;
@@ -38,42 +38,50 @@ pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {
-    match front_end(ctx, s, (t, vertices), surface, band.height, stats) {
+    // Filled in place by the front end: 144 bytes not copied out of it.
+    let mut screen = Screen::new();
+    match front_end(ctx, s, (t, vertices), surface, (band.height, &mut screen), stats) {
         Front::Done(rows) => rows,
-        Front::Inside(screen, known) => draw_polygon(band, ctx, &screen, known, surface, stats),
+        Front::Inside(known) => draw_polygon(band, ctx, &screen, known, surface, stats),
         Front::Clipped(tri) => draw_clipped(band, ctx, &tri, surface, stats),
     }
 }
+
+/// The screen vertices of an unclipped triangle.
+type Screen = heapless::Vec<ScreenVertex, 3>;
 
 /// What the per-triangle front end leaves to draw.
 enum Front {
     /// Nothing to draw in this band; the rows it can touch (for [`Scratch`](super::Scratch)).
     Done(TriangleRows),
-    /// Projected, wholly inside the clipping planes, with what [`facing`] and
-    /// [`TriangleRows::of`] said when known.
-    Inside([ScreenVertex; 3], (Option<i64>, Option<TriangleRows>)),
+    /// Projected into the [`Screen`], wholly inside the clipping planes, with what [`facing`]
+    /// and [`TriangleRows::of`] said when known.
+    Inside((Option<i64>, Option<TriangleRows>)),
     /// Crosses a clipping plane: cut it first.
     Clipped([ClipVertex; 3]),
 }
 
-/// Fetch, transform, cull, light and classify triangle `t`. Not inlined: its temporaries
-/// leave the stack before the rasterizer runs.
+/// Fetch, transform, cull, light and classify triangle `t`; an unclipped one is projected into
+/// `screen`. Not inlined: its temporaries leave the stack before the rasterizer runs.
 #[inline(never)]
 fn front_end<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     (t, vertices): (u32, Option<&mut [TransformedVertex]>),
     surface: &Surface<'_, '_>,
-    height: u16,
+    (height, screen): (u16, &mut Screen),
     stats: &mut Stats,
 ) -> Front {
     let idx = s.arrays.triangle(t);
-    let fresh = |i: u32| Projected::new(ctx, clip_position(s, i));
-    let (p, cache) = match vertices {
-        Some(cache) => {
-            (idx.map(|i| cached(ctx, s, cache, i).map_or_else(|| fresh(i), TransformedVertex::projected)), Some(cache))
+    // Without a cache (or for an index beyond it), the corners are transformed here and lit
+    // later, once the triangle is known to be drawn.
+    let fresh;
+    let (p, lit) = match vertices.and_then(|cache| cached_corners(ctx, s, cache, &idx)) {
+        Some(p) => (p, true),
+        None => {
+            fresh = idx.map(|i| TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), [0; 4]));
+            (fresh.each_ref(), false)
         }
-        None => (idx.map(fresh), None),
     };
     let class = classify(p.map(|p| p.outcode));
     if class == ClipResult::Outside {
@@ -84,8 +92,8 @@ fn front_end<const L: usize>(
     // eye: projection keeps the winding, and the snapped positions are the ones the rasterizer
     // gets below, so the decision is the same one it would make.
     let (mut area, mut known_rows) = (None, None);
-    if p.iter().all(Projected::in_front) {
-        match facing_of(p.map(|p| (p.x, p.y, p.inv_w)), surface.material.cull_back_faces, surface.flip) {
+    if p.iter().all(|p| crate::math::is_positive_finite(p.inv_w)) {
+        match facing_of(p.map(|p| (p.xy[0], p.xy[1], p.inv_w)), surface.material.cull_back_faces, surface.flip) {
             Err(Reject::BackFace) => {
                 stats.culled_back_face += 1;
                 return Front::Done(TriangleRows::EMPTY);
@@ -97,16 +105,15 @@ fn front_end<const L: usize>(
         // Rows of the unclipped triangle: a superset of what clipping leaves. A triangle that
         // cannot touch this band is not lit, clipped or set up here (a row cache learns its
         // rows for the later bands).
-        let rows = TriangleRows::of_ys(p[0].y.min(p[1].y).min(p[2].y), p[0].y.max(p[1].y).max(p[2].y), height);
+        let ys = p.map(|p| p.xy[1]);
+        let rows = TriangleRows::of_ys(ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]), height);
         if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
             stats.outside_band += 1;
             return Front::Done(rows);
         }
         known_rows = Some(rows);
     }
-    let lights = cache.map(|c| {
-        idx.map(|i| c.get(i as usize).map_or_else(|| vertex_light(ctx, s, i), TransformedVertex::vertex_light))
-    });
+    let lights = lit.then(|| p.map(TransformedVertex::vertex_light));
     let scale = texel_scale(surface.sampler);
     let phong = ctx.opts.shading == Shading::Phong;
     if class == ClipResult::Inside && !phong {
@@ -117,10 +124,12 @@ fn front_end<const L: usize>(
             stats.culled_frustum += 1;
             return Front::Done(TriangleRows::EMPTY);
         }
-        let lit = corner_lights(ctx, s, &idx, lights);
-        let screen =
-            core::array::from_fn(|k| p[k].screen_vertex(vertex_lit_screen(texels[k], lit[k], s.arrays.color(idx[k]))));
-        return Front::Inside(screen, (area, known_rows));
+        let light = corner_lights(ctx, s, &idx, lights);
+        for k in 0..3 {
+            let varyings = vertex_lit_screen(texels[k], light[k], s.arrays.color(idx[k]));
+            let _ = screen.push(p[k].screen_vertex(varyings));
+        }
+        return Front::Inside((area, known_rows));
     }
     let varyings = vertex_varyings(ctx, s, &idx, lights, scale);
     let maybe_not_finite = if phong { PixelLit::LEN } else { VertexLit::LIGHT };
@@ -130,8 +139,10 @@ fn front_end<const L: usize>(
     }
     if class == ClipResult::Inside {
         // Saturating casts: huge UVs clamp instead of wrapping.
-        let screen = core::array::from_fn(|k| p[k].screen_vertex(varyings[k].map(crate::math::to_i32)));
-        return Front::Inside(screen, (area, known_rows));
+        for k in 0..3 {
+            let _ = screen.push(p[k].screen_vertex(varyings[k].map(crate::math::to_i32)));
+        }
+        return Front::Inside((area, known_rows));
     }
     Front::Clipped(core::array::from_fn(|k| ClipVertex { pos: clip_position(s, idx[k]), varyings: varyings[k] }))
 }

@@ -5,6 +5,7 @@
 
 use core::ops::Range;
 
+use super::varyings::ScreenVaryings;
 use super::vertex::{Projected, VertexLight};
 use crate::fixed::FDot4;
 use crate::pipeline::raster::ScreenVertex;
@@ -199,7 +200,7 @@ pub struct TransformedVertex {
     pub(crate) light: [u16; 3],
     /// [`VertexLight`]'s specular / 257.
     specular: u8,
-    outcode: u8,
+    pub(crate) outcode: u8,
 }
 
 const _: () = assert!(core::mem::size_of::<TransformedVertex>() == 24);
@@ -231,8 +232,10 @@ impl TransformedVertex {
         TransformedVertex { xy, z, inv_w, light: [r, g, b], specular: (specular / 257) as u8, outcode }
     }
 
-    pub(crate) fn projected(&self) -> Projected {
-        Projected { x: self.xy[0], y: self.xy[1], z: self.z, inv_w: self.inv_w, outcode: self.outcode }
+    /// This vertex on the screen, carrying `varyings`.
+    #[inline(always)]
+    pub(crate) fn screen_vertex(&self, varyings: ScreenVaryings) -> ScreenVertex {
+        ScreenVertex { x: self.xy[0], y: self.xy[1], z: self.z, inv_w: self.inv_w, varyings }
     }
 
     pub(crate) fn vertex_light(&self) -> VertexLight {

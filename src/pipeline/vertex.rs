@@ -43,16 +43,6 @@ impl Projected {
         let xy = project_xy(clip, ctx.half);
         Projected { x: xy.x, y: xy.y, z: depth(clip, xy.inv_w), inv_w: xy.inv_w, outcode: outcode(clip, &ctx.guard) }
     }
-
-    /// In front of the eye, with a usable (positive, finite) `1/w`.
-    #[inline(always)]
-    pub(crate) fn in_front(&self) -> bool {
-        crate::math::is_positive_finite(self.inv_w)
-    }
-
-    pub(crate) fn screen_vertex(&self, varyings: ScreenVaryings) -> ScreenVertex {
-        ScreenVertex { x: self.x, y: self.y, z: self.z, inv_w: self.inv_w, varyings }
-    }
 }
 
 /// Vertex `i` in clip space.
@@ -94,18 +84,26 @@ pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'
     quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(p, n, ctx.eye)])
 }
 
-/// Vertex `i` in the frame's cache, transformed and lit on first use (`None` beyond the cache).
-pub(crate) fn cached<'c, const L: usize>(
+/// The corners `idx` in the frame's cache, each transformed and lit on first use (`None` when
+/// one is beyond the cache).
+#[inline(always)]
+pub(crate) fn cached_corners<'c, const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     cache: &'c mut [TransformedVertex],
-    i: u32,
-) -> Option<&'c TransformedVertex> {
-    let v = cache.get_mut(i as usize)?;
-    if v.inv_w.to_bits() == UNKNOWN_INV_W {
-        *v = TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), vertex_light(ctx, s, i));
+    idx: &[u32; 3],
+) -> Option<[&'c TransformedVertex; 3]> {
+    if idx.iter().any(|&i| i as usize >= cache.len()) {
+        return None;
     }
-    Some(v)
+    for &i in idx {
+        let v = &mut cache[i as usize];
+        if v.inv_w.to_bits() == UNKNOWN_INV_W {
+            *v = TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), vertex_light(ctx, s, i));
+        }
+    }
+    let cache = &*cache;
+    Some(idx.map(|i| &cache[i as usize]))
 }
 
 /// The light (and specular) of each corner for the vertex-lit shadings: per vertex (Gouraud),
