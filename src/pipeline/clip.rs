@@ -77,17 +77,20 @@ pub(crate) fn outcode(p: Vec4, guard: &GuardBand) -> u8 {
     }
 }
 
-/// [`outcode`] with float arithmetic and comparisons.
+/// [`outcode`] with float comparisons. Each plane test `a + b < 0` is `a < -b`, exactly (a
+/// float sum is zero only for opposite operands, and rounding keeps its sign): no additions,
+/// and only the guard band's two products.
 #[cfg_attr(soft_float, allow(dead_code))]
 fn outcode_by_floats(p: Vec4, guard: &GuardBand) -> u8 {
     if !p.is_finite() {
         return NOT_FINITE;
     }
-    let view = [p.z + p.w, p.w - p.z, p.w + p.x, p.w - p.x, p.w + p.y, p.w - p.y];
-    let outside = view.iter().enumerate().fold(0, |code, (k, &d)| code | u8::from(d < 0.0) << k);
-    // NaN (from overflowing products) counts as outside: cutting copes with it.
-    let clip = !guard.distances(p).iter().all(|&d| d >= 0.0);
-    outside | if clip { NEEDS_CLIP } else { 0 }
+    let [x, y, z, w] = p.to_array();
+    let view = [z < -w, w < z, x < -w, w < x, y < -w, w < y];
+    let outside = view.iter().enumerate().fold(0, |code, (k, &out)| code | u8::from(out) << k);
+    let (gx, gy) = (guard.gx * w, guard.gy * w);
+    let inside = z >= -w && w >= z && x >= -gx && gx >= x && y >= -gy && gy >= y;
+    outside | if inside { 0 } else { NEEDS_CLIP }
 }
 
 /// [`outcode`] for targets without an FPU: the same bits with integer comparisons of
