@@ -42,6 +42,14 @@ pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     let mut screen = Screen::new();
     match front_end(ctx, s, (t, vertices), surface, (band.height, &mut screen), stats) {
         Front::Done(rows) => rows,
+        // The common case, straight to the fill: a filled triangle whose facing and rows the
+        // front end found (what `draw_polygon` would do with them, without its other cases).
+        Front::Inside((Some(area), Some(rows))) if ctx.opts.mode == Mode::Solid => {
+            if let Ok(tri) = <&[ScreenVertex; 3]>::try_from(screen.as_slice()) {
+                fill(band, ctx, tri, Some(area), surface, stats);
+            }
+            rows
+        }
         Front::Inside(known) => draw_polygon(band, ctx, &screen, known, surface, stats),
         Front::Clipped(tri) => draw_clipped(band, ctx, &tri, surface, stats),
     }
