@@ -109,6 +109,7 @@ pub(crate) fn cached_corners<'c, const L: usize>(
 /// The light (and specular) of each corner for the vertex-lit shadings: per vertex (Gouraud),
 /// per face (flat) or full white (unlit, and Phong, which lights per pixel instead).
 /// `gouraud`: the vertices' [`vertex_light`]s when already known.
+#[inline(always)]
 pub(crate) fn corner_lights<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
@@ -117,21 +118,25 @@ pub(crate) fn corner_lights<const L: usize>(
 ) -> [VertexLight; 3] {
     match ctx.opts.shading {
         Shading::Unlit | Shading::Phong => [[u16::MAX, u16::MAX, u16::MAX, 0]; 3],
-        Shading::Flat => {
-            // Face normal from the world-space triangle. Front faces wind counter-clockwise as
-            // seen (y up), and with +z pointing away from the viewer that makes
-            // (p2-p0) x (p1-p0) point towards the viewer, i.e. outward.
-            let p = idx.map(|i| world_position(s, i));
-            let mut n = normalize_or_zero((p[2] - p[0]).cross(p[1] - p[0]));
-            if s.flip {
-                n = -n;
-            }
-            let centre = (p[0] + p[1] + p[2]) / 3.0;
-            let l = ctx.vertex_lights.at(centre, n);
-            [quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(centre, n, ctx.eye)]); 3]
-        }
+        Shading::Flat => [face_light(ctx, s, idx); 3],
         Shading::Gouraud => gouraud.unwrap_or_else(|| idx.map(|i| vertex_light(ctx, s, i))),
     }
+}
+
+/// The flat light of triangle `idx`. Not inlined: the common (Gouraud) path stays small.
+#[inline(never)]
+fn face_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u32; 3]) -> VertexLight {
+    // Face normal from the world-space triangle. Front faces wind counter-clockwise as seen
+    // (y up), and with +z pointing away from the viewer that makes (p2-p0) x (p1-p0) point
+    // towards the viewer, i.e. outward.
+    let p = idx.map(|i| world_position(s, i));
+    let mut n = normalize_or_zero((p[2] - p[0]).cross(p[1] - p[0]));
+    if s.flip {
+        n = -n;
+    }
+    let centre = (p[0] + p[1] + p[2]) / 3.0;
+    let l = ctx.vertex_lights.at(centre, n);
+    quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(centre, n, ctx.eye)])
 }
 
 /// The size of `sampler`'s texture in [`FDot16`](crate::fixed::FDot16) texels (zero without
