@@ -209,7 +209,10 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         rejected: 0,
         runs: 0,
     };
-    setup.for_each_span(subspan, &mut shader);
+    match setup.affine_rows() {
+        Some(rows) => shader.draw_affine(rows),
+        None => setup.for_each_span(subspan, &mut shader),
+    }
     stats.pixels_written += shader.written;
     stats.depth_rejected += shader.rejected;
     stats.runs += shader.runs;

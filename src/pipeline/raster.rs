@@ -155,6 +155,20 @@ fn ceil_div(n: i32, d: i32) -> i32 {
     -floor_div(-n, d)
 }
 
+/// A triangle's three edge walks, stepped together row by row.
+struct RowWalk([EdgeWalk; 3]);
+
+impl RowWalk {
+    /// The current row's covered columns `(lo, hi)` within `0..=last` (empty when `lo > hi`),
+    /// then on to the next row.
+    #[inline(always)]
+    fn next_row(&mut self, last: i32) -> (i32, i32) {
+        let span = self.0.iter().fold((0, last), |span, w| w.clamp(span));
+        self.0.iter_mut().for_each(EdgeWalk::next_row);
+        span
+    }
+}
+
 /// A triangle ready to rasterize: edges, depth plane and varyings relative to the origin pixel.
 pub struct Setup<const V: usize> {
     edges: [Edge; 3],
@@ -391,6 +405,36 @@ impl<const V: usize> Setup<V> {
         self.affine.is_some()
     }
 
+    /// The rows of an affine triangle for a span loop that walks them itself
+    /// ([`AffineRows`]), when every run's stepped depth provably stays within 0..=2^30 (see
+    /// [`Setup::safe_depth_step`]); `None` otherwise (then [`Setup::for_each_span`]).
+    #[inline(always)]
+    pub(crate) fn affine_rows(&self) -> Option<AffineRows<'_, V>> {
+        let planes = self.affine.as_ref()?;
+        let dz = self.safe_depth_step()?;
+        Some(AffineRows { setup: self, planes, walk: self.row_walk(), y: self.y0, dz })
+    }
+
+    /// The per-pixel depth step in 2.30 when every run in the window steps within 0..=2^30
+    /// from its first pixel's depth, so that no run needs the test of [`Setup::emit`].
+    ///
+    /// A run of `len` pixels starting at depth `z` (24.40) steps to `(z >> 10) + dz·(len - 1)`
+    /// with `dz = z_dx >> 10`: at most `z_last / 2^10` and above `z_last / 2^10 - len`, where
+    /// `z_last` is the plane at its last pixel. The plane's extremes over the box are at its
+    /// corners, so when every corner lies in `(width + 1)·2^10 ..= 2^40` (the box `width + 1`
+    /// columns wide), every run starts and ends within 0..=2^30.
+    fn safe_depth_step(&self) -> Option<i32> {
+        let dz = i32::try_from(depth40_to_30(self.z_dx)).ok()?;
+        let (w, dy0, dy1) = ((self.x1 - self.x0) as i64, self.y0 - self.origin_row, self.y1 - self.origin_row);
+        let corner = |x: i64, dy: i32| {
+            let z = self.z_origin.checked_add(self.z_dy.checked_mul(dy as i64)?)?;
+            z.checked_add(self.z_dx.checked_mul(x)?)
+        };
+        let inside = |z: Option<i64>| z.is_some_and(|z| ((w + 1) << 10..=1 << 40).contains(&z));
+        (inside(corner(0, dy0)) && inside(corner(w, dy0)) && inside(corner(0, dy1)) && inside(corner(w, dy1)))
+            .then_some(dz)
+    }
+
     /// Hands every covered run of pixels to `sink` as [`Span`]s, row by row, left to right:
     /// one span per row when the triangle [`is_affine`](Setup::is_affine); else runs with exact
     /// perspective-correct varyings at their first pixel, of `subspan` pixels when it is above
@@ -424,12 +468,17 @@ impl<const V: usize> Setup<V> {
     /// band starts its edge walks where the whole frame's would be on that row.
     #[inline(always)]
     fn covered_rows(&self) -> impl Iterator<Item = (i32, i32, i32, i32)> + '_ {
-        let mut walks = self.edges.map(|e| EdgeWalk::new(&e, self.y0 - self.origin_row));
+        let mut walk = self.row_walk();
         (self.y0..=self.y1).filter_map(move |y| {
-            let (lo, hi) = walks.iter().fold((0, self.x1 - self.x0), |span, w| w.clamp(span));
-            walks.iter_mut().for_each(EdgeWalk::next_row);
+            let (lo, hi) = walk.next_row(self.x1 - self.x0);
             (lo <= hi).then_some((y, y - self.origin_row, lo, hi))
         })
+    }
+
+    /// The edge walks of the window's rows, from its first (see [`Setup::covered_rows`]).
+    #[inline(always)]
+    fn row_walk(&self) -> RowWalk {
+        RowWalk(self.edges.map(|e| EdgeWalk::new(&e, self.y0 - self.origin_row)))
     }
 
     /// Depth (24.40) at column `x` of the row `dy` below the origin. Wrapping: exact whenever
@@ -551,6 +600,48 @@ pub struct Span<const V: usize> {
 pub trait SpanSink<const V: usize> {
     /// Draws one run.
     fn span(&mut self, span: &Span<V>);
+}
+
+/// An affine triangle's rows, walked by the span loop itself (see [`Setup::affine_rows`]):
+/// the same spans as [`Setup::for_each_span`] hands out, bit for bit, without a call or a
+/// [`Span`] in memory per run.
+pub(crate) struct AffineRows<'s, const V: usize> {
+    setup: &'s Setup<V>,
+    planes: &'s AffinePlanes<V>,
+    walk: RowWalk,
+    /// The next frame row.
+    y: i32,
+    /// The per-pixel depth step in 2.30.
+    pub(crate) dz: i32,
+}
+
+/// One covered row of an [`AffineRows`]: frame row and column, pixels, depth (2.30) and
+/// varyings at its first pixel.
+pub(crate) type AffineRun<const V: usize> = (i32, i32, u32, Depth30, [FDot16; V]);
+
+impl<const V: usize> AffineRows<'_, V> {
+    /// The varying steps per pixel.
+    pub(crate) fn steps(&self) -> [FDot16; V] {
+        self.planes.step
+    }
+
+    /// The next row: `None` after the last, `Some(None)` when it covers no pixel centre.
+    #[inline(always)]
+    pub(crate) fn next_row(&mut self) -> Option<Option<AffineRun<V>>> {
+        let s = self.setup;
+        let y = self.y;
+        if y > s.y1 {
+            return None;
+        }
+        self.y += 1;
+        let (lo, hi) = self.walk.next_row(s.x1 - s.x0);
+        if lo > hi {
+            return Some(None);
+        }
+        let dy = y - s.origin_row;
+        let z = depth40_to_30(s.depth_at(lo, dy)) as Depth30;
+        Some(Some((y, s.x0 + lo, (hi + 1 - lo) as u32, z, self.planes.at(lo, dy).0)))
+    }
 }
 
 /// Affine varyings: `v(x, y) = base + (origin + gx·x + gy·y) / 256` in pixels from the origin

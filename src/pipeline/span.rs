@@ -12,7 +12,7 @@
 #![allow(unsafe_code)]
 
 use super::fragment::Lighting;
-use super::raster::{step_varyings, Span, SpanSink};
+use super::raster::{step_varyings, AffineRows, Span, SpanSink};
 use super::varyings::texel_coordinates;
 use crate::target::{BandArea, DepthBuffer, DepthCell, FrameColor};
 use crate::texture::{modulate, Repeat565, Sampler};
@@ -80,6 +80,14 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
 {
     #[inline(never)]
     fn span(&mut self, s: &Span<V>) {
+        self.span_inline(s);
+    }
+}
+
+impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
+    /// The body of [`SpanSink::span`], for the loops that inline it.
+    #[inline(always)]
+    fn span_inline<const V: usize>(&mut self, s: &Span<V>) {
         let len = s.len as usize;
         // The run must lie on one row of this band (the rasterizer guarantees it); checked
         // anyway.
@@ -110,6 +118,20 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
         self.written += s.len - rejected - cut;
         self.rejected += rejected;
         self.runs += 1;
+    }
+}
+
+impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
+    /// Draws an affine triangle's rows (see [`AffineRows`]): the same pixels as the runs
+    /// [`SpanSink::span`] gets, walked here so that the triangle's values stay at hand from
+    /// row to row, with no call per run.
+    pub(super) fn draw_affine<const V: usize>(&mut self, mut rows: AffineRows<'_, V>) {
+        let (dz, dv) = (rows.dz, rows.steps());
+        while let Some(row) = rows.next_row() {
+            if let Some((y, x, len, z, v)) = row {
+                self.span_inline(&Span { y, x, len, z, dz, v, dv });
+            }
+        }
     }
 }
 
