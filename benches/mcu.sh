@@ -1,18 +1,20 @@
 #!/usr/bin/env bash
 # Microcontroller benchmark: guest instructions executed by QEMU (deterministic, unlike wall-clock
 # time) to render the reference Suzanne frame (240x240 RGB565) with the firmware in
-# examples/qemu, on the Cortex-M4F (thumbv7em-none-eabihf, mps2-an386) and on thumbv6m code
-# (thumbv6m-none-eabi, run on mps2-an385's Cortex-M3).
+# examples/qemu, on the Cortex-M4F (thumbv7em-none-eabihf, mps2-an386), on thumbv6m code
+# (thumbv6m-none-eabi, run on mps2-an385's Cortex-M3) and on riscv32imc (riscv32imc-unknown-none-elf,
+# run on qemu-system-riscv32's virt machine, -bios none).
 #
 # Per-frame cost = count(2 frames) - count(1 frame), which subtracts start-up (stack painting,
 # .data/.bss set-up, model parsing) and the one-off end (frame file, stack scan, JSON line).
 # Both 8 bands of 240x30 (the default) and 1 band of 240x240 (feature `one-band`) are measured.
 # Prints a markdown table.
 #
-# Needs: rustup targets thumbv7em-none-eabihf and thumbv6m-none-eabi, qemu-system-arm 7.2
-# (plugin API v1; Debian bookworm's), gcc, readelf, and the instruction-counting plugin in
-# shared/tools/qemu-insncount beside the repository. Without the plugin (or qemu/gcc) it prints
-# why and "skipped", and exits 0.
+# Needs: rustup targets thumbv7em-none-eabihf, thumbv6m-none-eabi and riscv32imc-unknown-none-elf,
+# qemu-system-arm 7.2 (plugin API v1; Debian bookworm's), gcc, readelf, and the
+# instruction-counting plugin in shared/tools/qemu-insncount beside the repository. Without the
+# plugin (or qemu-system-arm/gcc) it prints why and "skipped", and exits 0. Without
+# qemu-system-riscv32 (Debian: qemu-system-misc) only the riscv32imc rows are skipped, with a message.
 set -euo pipefail
 
 root="$(git -C "$(dirname "${BASH_SOURCE[0]}")" rev-parse --show-toplevel)"
@@ -47,11 +49,22 @@ section_bytes() {
     echo "$sum"
 }
 
-# Runs an ELF under QEMU with the plugin; sets INSNS and JSON.
+# The QEMU system emulator for a target.
+qemu_for() {
+    case "$1" in
+        riscv32*) echo qemu-system-riscv32 ;;
+        *) echo qemu-system-arm ;;
+    esac
+}
+
+# Runs an ELF under QEMU with the plugin; sets INSNS and JSON. riscv32 (virt) runs without
+# firmware (-bios none): QEMU jumps straight to the ELF's entry point.
 run() {
-    local elf="$1" machine="$2" cpu="$3" status=0
+    local elf="$1" machine="$2" cpu="$3" qemu="${4:-qemu-system-arm}" status=0
+    local bios=()
+    [ "$qemu" = qemu-system-riscv32 ] && bios=(-bios none)
     rm -f "$work/plugin.log"
-    JSON="$(cd "$work" && timeout 120 qemu-system-arm -machine "$machine" -cpu "$cpu" -nographic -monitor none \
+    JSON="$(cd "$work" && timeout 120 "$qemu" -machine "$machine" -cpu "$cpu" "${bios[@]}" -nographic -monitor none \
         -serial none -semihosting-config enable=on,target=native -icount shift=0 -kernel "$elf" \
         -plugin "$plugin" -d plugin -D "$work/plugin.log")" || status=$?
     if [ "$status" -ne 0 ]; then
@@ -64,10 +77,11 @@ run() {
 
 json_field() { sed -n "s/.*\"$1\":\([0-9]*\).*/\1/p" <<<"$2"; }
 
-# target  board  cpu
+# target  board  cpu (rv32: virt's default CPU, given explicitly)
 configs=(
     "thumbv7em-none-eabihf mps2-an386 cortex-m4"
     "thumbv6m-none-eabi mps2-an385 cortex-m3"
+    "riscv32imc-unknown-none-elf virt rv32"
 )
 
 rows=()
@@ -75,8 +89,15 @@ ratios=()
 lines=()
 m4_covered=0 # covered pixels of the M4F 1-band frame, for the stage table
 m4_json=""   # its JSON line
+skipped=()
 for config in "${configs[@]}"; do
     read -r target machine cpu <<<"$config"
+    qemu="$(qemu_for "$target")"
+    if ! command -v "$qemu" >/dev/null; then
+        skipped+=("$target: skipped, $qemu not found (apt-get install -y --no-install-recommends qemu-system-misc)")
+        echo "mcu bench: ${skipped[-1]}" >&2
+        continue
+    fi
     declare -A per_frame=()
     for bands in 8 1; do
         band_feature=""
@@ -89,7 +110,7 @@ for config in "${configs[@]}"; do
             (cd "$fw" && cargo build --release --quiet --target "$target" --features "$features")
             elf="$work/$target-$bands-$frames.elf"
             cp "$fw/target/$target/release/soft3d-qemu" "$elf"
-            run "$elf" "$machine" "$cpu"
+            run "$elf" "$machine" "$cpu" "$qemu"
             count[$frames]="$INSNS"
             if [ "$frames" = 1 ]; then
                 json1="$JSON"
@@ -107,7 +128,15 @@ for config in "${configs[@]}"; do
         pf=$((count[2] - count[1]))
         per_frame[$bands]="$pf"
         per_px="$(awk -v a="$pf" -v b="$covered" 'BEGIN { printf "%.1f", (b > 0 ? a / b : 0) }')"
-        flash="$(section_bytes "$elf1" .vector_table .text .rodata .data)"
+        if [ "$qemu" = qemu-system-riscv32 ]; then
+            # riscv-rt's link.x: start-up code in .init.rust, and it keeps .eh_frame (in flash).
+            # No stack figures: the firmware measures the stack on Cortex-M only (reports 0).
+            flash="$(section_bytes "$elf1" .text .init.rust .rodata .eh_frame .data)"
+            stack="n/a"
+            core_stack="n/a"
+        else
+            flash="$(section_bytes "$elf1" .vector_table .text .rodata .data)"
+        fi
         ram="$(section_bytes "$elf1" .data .bss .uninit)"
         rows+=("| $target | $machine ($cpu) | $bands x 240x$((240 / bands)) | ${count[1]} | ${count[2]} | $pf | $covered | $per_px | $flash | $ram | $stack | $core_stack |")
         unset count
@@ -119,11 +148,14 @@ done
 echo
 echo "Reference Suzanne frame, 240x240 RGB565, textured (nearest), Gouraud, perspective-correct (within 1/16 texel),"
 echo "drawn with a RowCache of triangle rows and transformed vertices. The thumbv6m build (no FPU) uses 16-bit"
-echo "positions and the fixed-point vertex path (RenderOptions::fixed_vertices); the M4F build f32 positions and vertices."
+echo "positions and the fixed-point vertex path (RenderOptions::fixed_vertices), and so does riscv32imc (no FPU either:"
+echo "the same frame, byte for byte); the M4F build f32 positions and vertices."
 echo "Instruction counts from QEMU (-icount shift=0, qemu-insncount plugin); per frame = 2 frames - 1 frame."
 echo "Flash = .vector_table + .text + .rodata + .data (includes the 32 KiB 128x128 RGB565 texture);"
 echo "static RAM = .data + .bss (includes the colour and depth band buffers); stack = high-water mark of the"
 echo "whole firmware (semihosting included); core stack = what the draw calls alone use (see examples/qemu)."
+echo "riscv32imc (QEMU virt, -bios none): flash = .text + .init.rust + .rodata + .eh_frame + .data; its stack is not"
+echo "measured (n/a)."
 echo
 echo "| target | board | bands | insns 1 frame | insns 2 frames | insns per frame | covered px | insns per covered px | flash bytes | static RAM bytes | stack bytes | core stack bytes |"
 echo "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
@@ -132,6 +164,7 @@ echo
 echo "| target | per frame, 8 bands of 240x30 | per frame, 1 band of 240x240 | 8 bands / 1 band |"
 echo "| --- | ---: | ---: | ---: |"
 printf '%s\n' "${ratios[@]}"
+[ "${#skipped[@]}" -eq 0 ] || { echo; printf '%s\n' "${skipped[@]}"; }
 # Other views of the same model, M4F, 1 band (examples/qemu `view`): far away (vertex-bound)
 # and a close-up (pixel-bound, clipped at the guard band).
 views=()

@@ -12,8 +12,12 @@
 # Frames: out/qemu-frame-m4.rgb565 and out/qemu-frame-m0.rgb565 (little-endian RGB565, 240x240,
 # row-major, no header): tests/qemu_frame.rs checks each is bit-identical to the host's
 # rendering with the same model and options.
+# Then riscv32imc (riscv32imc-unknown-none-elf, release, on qemu-system-riscv32's virt machine with
+# -bios none), which draws like thumbv6m (no FPU): its frame must equal out/qemu-frame-m0.rgb565
+# byte for byte. Skipped, with a message, without qemu-system-riscv32 (Debian: qemu-system-misc).
 #
-# Needs: rustup targets thumbv7em-none-eabihf and thumbv6m-none-eabi, qemu-system-arm.
+# Needs: rustup targets thumbv7em-none-eabihf, thumbv6m-none-eabi and riscv32imc-unknown-none-elf,
+# qemu-system-arm (and qemu-system-riscv32 for the riscv32imc check).
 # Exit status: 0 when every check passed, 1 otherwise.
 set -euo pipefail
 
@@ -83,6 +87,33 @@ for config in "${configs[@]}"; do
         failed=1
     fi
 done
+
+# riscv32imc: the same firmware, the same fixed-point path as thumbv6m, so the same frame.
+if command -v qemu-system-riscv32 >/dev/null; then
+    target=riscv32imc-unknown-none-elf
+    echo "== $target on virt (rv32)"
+    (cd "$fw" && cargo build --release --quiet --target "$target")
+    rm -f "$out/qemu-frame.rgb565"
+    set +e
+    json="$(cd "$root" && timeout 300 qemu-system-riscv32 -machine virt -bios none -nographic -monitor none \
+        -serial none -semihosting-config enable=on,target=native -kernel "$fw/target/$target/release/soft3d-qemu")"
+    status=$?
+    set -e
+    echo "$json"
+    if [ "$status" -ne 0 ]; then
+        echo "FAIL: $target: QEMU exited with status $status (124 = timed out)" >&2
+        failed=1
+    elif ! grep -q '^{"frame".*"covered":14456,' <<<"$json"; then
+        echo "FAIL: $target: no JSON statistics line with 14456 covered pixels" >&2
+        failed=1
+    elif ! cmp -s "$out/qemu-frame.rgb565" "$out/qemu-frame-m0.rgb565"; then
+        echo "FAIL: $target: its frame differs from thumbv6m's (out/qemu-frame-m0.rgb565)" >&2
+        failed=1
+    fi
+    rm -f "$out/qemu-frame.rgb565"
+else
+    echo "qemu-check: riscv32imc skipped: qemu-system-riscv32 not found (apt-get install -y --no-install-recommends qemu-system-misc)"
+fi
 
 # The development build (examples/qemu's dev profile: overflow checks and debug assertions on,
 # as a firmware's everyday build has them) of both targets, on the reference frame and the two

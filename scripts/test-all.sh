@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Everything CI checks, from a fresh machine: installs what the tests need (rustup targets,
-# qemu-system-arm), then host tests, lints, MCU-target builds, the QEMU firmware run compared
+# qemu-system-arm, qemu-system-misc for riscv32), then host tests, lints, MCU-target builds, the QEMU firmware run compared
 # with the host rendering, the board firmware builds, and the MCU instruction-count table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -10,9 +10,11 @@ step "toolchain targets"
 rustup target add thumbv6m-none-eabi thumbv7em-none-eabihf riscv32imc-unknown-none-elf
 rustup component add clippy rustfmt >/dev/null 2>&1 || true
 
-# qemu-system-arm for the firmware; a C++ compiler for libFuzzer (cargo-fuzz's runtime).
+# qemu-system-arm for the firmware, qemu-system-misc (qemu-system-riscv32) for its riscv32imc
+# build (scripts/qemu-check.sh, benches/mcu.sh); a C++ compiler for libFuzzer (cargo-fuzz's runtime).
 missing=()
 command -v qemu-system-arm >/dev/null || missing+=(qemu-system-arm)
+command -v qemu-system-riscv32 >/dev/null || missing+=(qemu-system-misc)
 command -v c++ >/dev/null || missing+=(g++)
 if [ "${#missing[@]}" -gt 0 ]; then
   step "installing ${missing[*]}"
@@ -65,7 +67,7 @@ for target in parse babylon draw buffers; do
 done
 
 if [ -x scripts/qemu-check.sh ]; then
-  step "QEMU firmware (Cortex-M4F and thumbv6m) and the host comparison"
+  step "QEMU firmware (Cortex-M4F, thumbv6m, riscv32imc) and the host comparison"
   scripts/qemu-check.sh
   SOFT3D_REQUIRE_QEMU=1 cargo test --release --test qemu_frame -- --nocapture
 fi

@@ -1,13 +1,14 @@
 //! Converts the reference Suzanne scene to `.s3d` for the firmware (soft3d's own converter,
 //! feature `convert`, as a build-dependency) and puts the linker's memory map where
-//! cortex-m-rt's `link.x` finds it.
+//! cortex-m-rt's `link.x` finds it (for riscv32, `memory-riscv.x`, passed to the linker with
+//! `-T` since riscv-rt's `link.x` does not include it).
 
 use soft3d::convert::EmitOptions;
 use soft3d::convert::{ConvertOptions, UvOrigin};
 
 #[path = "../common/firmware_build.rs"]
 mod firmware_build;
-use firmware_build::firmware_build;
+use firmware_build::firmware_build_with_memory;
 
 /// Largest texture side kept in flash: Suzanne.jpg is 512x512, which is 512 KiB as RGB565;
 /// 128x128 is 32 KiB.
@@ -17,8 +18,16 @@ fn main() {
     // The reference frame's model: exact f32 positions (the 14,457-pixel coverage), v = 0 at
     // the top of the image (the 2013 tutorial's Suzanne), texture downscaled for flash.
     let opts = ConvertOptions { uv_origin: UvOrigin::Top, max_texture: Some(MAX_TEXTURE), ..Default::default() };
-    // FPU-less targets (thumbv6m) draw with the fixed-point vertex path, which reads 16-bit
-    // quantized positions as integers directly.
+    // FPU-less targets (thumbv6m, riscv32imc: their target ABI is not `eabihf`) draw with the
+    // fixed-point vertex path, which reads 16-bit quantized positions as integers directly.
     let fpu = std::env::var("CARGO_CFG_TARGET_ABI").is_ok_and(|abi| abi == "eabihf");
-    firmware_build(&[], &opts, &EmitOptions { float_positions: fpu, ..Default::default() });
+    let emit = EmitOptions { float_positions: fpu, ..Default::default() };
+    if std::env::var("CARGO_CFG_TARGET_ARCH").is_ok_and(|arch| arch == "riscv32") {
+        // By absolute path: a bare `-Tmemory.x` finds the ARM memory.x in the package folder
+        // (the linker's working directory) before the search path.
+        let memory = std::path::Path::new(&std::env::var_os("OUT_DIR").expect("OUT_DIR")).join("memory.x");
+        firmware_build_with_memory("memory-riscv.x", &[&format!("-T{}", memory.display())], &opts, &emit);
+    } else {
+        firmware_build_with_memory("memory.x", &[], &opts, &emit);
+    }
 }

@@ -1,10 +1,11 @@
-//! soft3d on an emulated Cortex-M: renders the reference "Suzanne frame" (240x240 RGB565) in
+//! soft3d on an emulated Cortex-M (or riscv32imc): renders the reference "Suzanne frame" (240x240 RGB565) in
 //! horizontal bands, writes it to the host through semihosting and prints its statistics as
 //! one JSON line, then exits with status 0 (non-zero on any failure).
 //!
 //! ```text
 //! cd examples/qemu && mkdir -p out && cargo run --release                       # Cortex-M4F, mps2-an386
 //! cd examples/qemu && mkdir -p out && cargo run --release --target thumbv6m-none-eabi  # on mps2-an385 (M3)
+//! cd examples/qemu && mkdir -p out && cargo run --release --target riscv32imc-unknown-none-elf  # QEMU virt
 //! ```
 //!
 //! Features: `two-frames` renders the frame twice (per-frame instruction count =
@@ -12,22 +13,27 @@
 //! 240x30 ones.
 //!
 //! Buffers: one colour and one depth band live in `.bss`, handed out once as `&'static mut` by
-//! `cortex_m::singleton!`, so they count as static RAM and stay out of the stack figure.
+//! `cortex_m::singleton!` (`riscv::singleton!` on riscv32), so they count as static RAM and stay
+//! out of the stack figure.
 //!
 //! Stack: cortex-m-rt's `paint-stack` feature fills `_stack_end.._stack_start` (everything
 //! above the statics) with `0xCCCC_CCCC` before `main`; after the frame the lowest word that
 //! no longer holds the pattern gives the high-water mark of the whole firmware. For the core
 //! alone, in the first frame, the free stack below the caller's frame is painted again right
 //! before each band's draw call and scanned right after it: the lowest touched word, measured
-//! from the stack pointer at the call, gives the renderer's own use.
+//! from the stack pointer at the call, gives the renderer's own use. Cortex-M only: on riscv32
+//! (riscv-rt does not paint the stack) both stack figures are reported as 0.
 #![no_std]
 #![no_main]
 
 use core::ffi::CStr;
 
+#[cfg(target_arch = "arm")]
 use cortex_m_rt::entry;
 use embedded_graphics_core::pixelcolor::raw::{RawData, RawU16};
 use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
+#[cfg(target_arch = "riscv32")]
+use riscv_rt::entry;
 use semihosting::fs::File;
 use semihosting::io::Write as _;
 use semihosting::{eprintln, println, process};
@@ -57,7 +63,21 @@ const FRAMES: u32 = if cfg!(feature = "two-frames") { 2 } else { 1 };
 /// row-major, no header.
 const FRAME_PATH: &CStr = c"out/qemu-frame.rgb565";
 /// What cortex-m-rt's `paint-stack` writes over the stack before `main`.
+#[cfg(target_arch = "arm")]
 const STACK_PAINT: u32 = 0xCCCC_CCCC;
+
+/// `Some(&'static mut $ty)` initialised to `$expr` the first time, `None` after:
+/// `cortex_m::singleton!` on Cortex-M, `riscv::singleton!` (an `Option` static, no name) on
+/// riscv32.
+macro_rules! singleton {
+    ($name:ident: $ty:ty = $expr:expr) => {{
+        #[cfg(target_arch = "arm")]
+        let r = cortex_m::singleton!($name: $ty = $expr);
+        #[cfg(target_arch = "riscv32")]
+        let r = riscv::singleton!(: $ty = $expr);
+        r
+    }};
+}
 
 /// The single line printed on stdout.
 #[derive(Serialize)]
@@ -78,9 +98,10 @@ struct Report {
     depth_rejected: u32,
     /// Depth entries not at the far plane after the frame.
     covered: u32,
-    /// Stack high-water mark of the whole run, in bytes below `_stack_start`.
+    /// Stack high-water mark of the whole run, in bytes below `_stack_start` (0 on riscv32).
     stack_bytes: u32,
-    /// Stack used by the renderer's calls alone (first frame), in bytes below `main`'s frame.
+    /// Stack used by the renderer's calls alone (first frame), in bytes below `main`'s frame
+    /// (0 on riscv32).
     core_stack_bytes: u32,
 }
 
@@ -97,15 +118,14 @@ fn main() -> ! {
 
 fn run() -> Result<(), &'static str> {
     let color: &'static mut [Rgb565; BAND_PIXELS] =
-        cortex_m::singleton!(COLOR: [Rgb565; BAND_PIXELS] = [Rgb565::BLACK; BAND_PIXELS]).ok_or("colour band taken")?;
+        singleton!(COLOR: [Rgb565; BAND_PIXELS] = [Rgb565::BLACK; BAND_PIXELS]).ok_or("colour band taken")?;
     let depth: &'static mut [u16; BAND_PIXELS] =
-        cortex_m::singleton!(DEPTH: [u16; BAND_PIXELS] = [0; BAND_PIXELS]).ok_or("depth band taken")?;
+        singleton!(DEPTH: [u16; BAND_PIXELS] = [0; BAND_PIXELS]).ok_or("depth band taken")?;
 
     let rows_seen: &'static mut [TriangleRows; TRIANGLES] =
-        cortex_m::singleton!(ROWS: [TriangleRows; TRIANGLES] = [TriangleRows::UNKNOWN; TRIANGLES])
-            .ok_or("row cache taken")?;
+        singleton!(ROWS: [TriangleRows; TRIANGLES] = [TriangleRows::UNKNOWN; TRIANGLES]).ok_or("row cache taken")?;
     let vertices_seen: &'static mut [TransformedVertex; VERTICES] =
-        cortex_m::singleton!(VERTS: [TransformedVertex; VERTICES] = [TransformedVertex::UNKNOWN; VERTICES])
+        singleton!(VERTS: [TransformedVertex; VERTICES] = [TransformedVertex::UNKNOWN; VERTICES])
             .ok_or("vertex cache taken")?;
 
     let model = Model::parse(SUZANNE).map_err(|_| "suzanne.s3d does not parse")?;
@@ -116,8 +136,9 @@ fn run() -> Result<(), &'static str> {
     // `view-*` feature, another view of the same model for the benchmarks).
     let (camera, transform) = view()?;
     let lights = reference::lights();
-    // FPU-less builds (thumbv6m) transform vertices in integers (see RenderOptions).
-    let opts = RenderOptions { fixed_vertices: cfg!(target_abi = "eabi"), ..reference::options() };
+    // FPU-less builds (thumbv6m, riscv32imc) transform vertices in integers (see RenderOptions);
+    // build.rs gives them 16-bit positions (every target but `eabihf`).
+    let opts = RenderOptions { fixed_vertices: cfg!(not(target_abi = "eabihf")), ..reference::options() };
     let renderer = Renderer::new(&camera, &lights, opts);
 
     let mut stats = Stats::default();
@@ -192,6 +213,7 @@ fn write_band(f: &mut File, pixels: &[Rgb565]) -> Result<(), &'static str> {
     Ok(())
 }
 
+#[cfg(target_arch = "arm")]
 extern "C" {
     static _stack_start: u32;
     static _stack_end: u32;
@@ -199,18 +221,21 @@ extern "C" {
 
 /// Bytes of stack used so far: from `_stack_start` (the top) down to the lowest word that no
 /// longer holds the paint.
+#[cfg(target_arch = "arm")]
 fn stack_high_water() -> u32 {
     (&raw const _stack_start as usize - lowest_touched_stack(&raw const _stack_end as usize)) as u32
 }
 
 /// How far below the caller's frame [`repaint_free_stack`] paints (more than the renderer
 /// uses; the scan stops at the first touched word, so a bigger window costs nothing more).
+#[cfg(target_arch = "arm")]
 const CORE_STACK_WINDOW: usize = 16 * 1024;
 
 /// The lowest address at or above `from` that no longer holds the paint cortex-m-rt (or
 /// [`repaint_free_stack`]) put on the stack. Never inlined, like [`paint_stack`]: the one- and
 /// two-frame builds must run the very same code for it, or its instruction count would not
 /// cancel out of the per-frame figure.
+#[cfg(target_arch = "arm")]
 #[inline(never)]
 fn lowest_touched_stack(from: usize) -> usize {
     let top = &raw const _stack_start as usize;
@@ -232,6 +257,7 @@ fn lowest_touched_stack(from: usize) -> usize {
 /// for [`paint_stack`]'s own frame) and returns the stack pointer and the window's start.
 /// First raises `high_water` (bytes below `_stack_start`) to what the window shows, since
 /// painting erases it. Inlined into its caller, so that the pointer is the caller's.
+#[cfg(target_arch = "arm")]
 #[inline(always)]
 fn repaint_free_stack(high_water: &mut u32) -> (usize, usize) {
     let sp = cortex_m::register::msp::read() as usize;
@@ -243,6 +269,7 @@ fn repaint_free_stack(high_water: &mut u32) -> (usize, usize) {
 }
 
 /// Writes the paint pattern over `from..to`. Never inlined (see [`lowest_touched_stack`]).
+#[cfg(target_arch = "arm")]
 #[inline(never)]
 fn paint_stack(from: usize, to: usize) {
     let mut p = from;
@@ -252,6 +279,24 @@ fn paint_stack(from: usize, to: usize) {
         unsafe { core::ptr::write_volatile(p as *mut u32, STACK_PAINT) };
         p += 4;
     }
+}
+
+/// riscv32 stand-ins for the stack measurement above (Cortex-M only): every figure is 0.
+#[cfg(target_arch = "riscv32")]
+fn stack_high_water() -> u32 {
+    0
+}
+
+/// See [`stack_high_water`] (riscv32): the scan finds nothing, so it stops where it starts.
+#[cfg(target_arch = "riscv32")]
+fn lowest_touched_stack(from: usize) -> usize {
+    from
+}
+
+/// See [`stack_high_water`] (riscv32): paints nothing; stack pointer and window start are 0.
+#[cfg(target_arch = "riscv32")]
+fn repaint_free_stack(_high_water: &mut u32) -> (usize, usize) {
+    (0, 0)
 }
 
 /// The camera and model transform drawn: the reference frame, or with feature `view-far` the
