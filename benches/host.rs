@@ -1,9 +1,10 @@
 //! Host benchmark (criterion): wall-clock time per frame of soft3d on the development machine,
-//! side by side with the `euc` 0.5 software renderer drawing the same Suzanne frame.
+//! side by side with two peer software renderers drawing the same Suzanne frame: `euc` 0.5 and
+//! `embedded-3dgfx` 0.7.
 //!
 //! `cargo bench --bench host` (about a minute). Every frame is: clear colour, clear depth, draw,
 //! into buffers allocated once outside the timing loop (RGB565 colour, `u16` depth for soft3d;
-//! RGB565 colour, `f32` depth for euc). At the end a table of per-frame medians is printed; the
+//! RGB565 colour, `f32` depth for euc; RGB565 colour, `u32` depth for embedded-3dgfx). At the end a table of per-frame medians is printed; the
 //! medians are those of criterion's samples (each sample's time / its iteration count), recorded
 //! by the routines below as criterion runs them, so they equal criterion's reported medians.
 //!
@@ -20,17 +21,29 @@
 //! every transformed vertex (scratch allocated once), as a frame-drawing application would;
 //! scene 6 also shows 8 bands drawn with `Scratch::none()`, without any cache.
 //! 7. euc 0.5 rendering the same Suzanne mesh (same triangles, matrices, texture, lights).
+//! 8. embedded-3dgfx 0.7 rendering the same Suzanne mesh (same triangles, camera, model yaw and
+//!    texture; its own textured Gouraud lighting, see [`E3dFrame`]).
 //!
-//! Side effects (once, outside the timing): `out/bench-soft3d.png` and `out/bench-euc.png`, the
-//! two renderers' 240x240 Suzanne frames.
+//! Side effects (once, outside the timing): `out/bench-soft3d.png`, `out/bench-euc.png` and
+//! `out/bench-embedded-3dgfx.png`, the three renderers' 240x240 Suzanne frames.
 
+use std::convert::Infallible;
 use std::f32::consts::PI;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, SamplingMode};
+use embedded_3dgfx::engine::K3dengine;
+use embedded_3dgfx::pipeline::command_buffer::CommandBuffer;
+use embedded_3dgfx::pipeline::rasterize::texture::{Texture, TextureManager};
+use embedded_3dgfx::pipeline::renderer::FrameCtx;
+use embedded_3dgfx::pipeline::vertex::mesh::{Geometry, K3dMesh, RenderMode};
+use embedded_3dgfx::{ZDepth, Z_MAX_VALUE};
+use embedded_graphics_core::draw_target::DrawTarget;
+use embedded_graphics_core::geometry::{OriginDimensions, Size};
 use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
+use embedded_graphics_core::Pixel;
 use euc::buffer::Buffer2d;
 use euc::rasterizer::{BackfaceCullingEnabled, Triangles};
 use euc::{Pipeline, Target};
@@ -293,6 +306,162 @@ fn texels_from_bottom(t: &TextureData) -> Vec<[u8; 3]> {
         .collect()
 }
 
+/// Capacity of embedded-3dgfx's command buffer: one depth clear plus one command per front-facing
+/// Suzanne triangle (968 triangles in all).
+const E3D_COMMANDS: usize = 1024;
+
+/// A small in-memory `DrawTarget` for embedded-3dgfx, which hands its rasterizers' pixels to
+/// `draw_iter` one at a time.
+struct E3dTarget {
+    width: u32,
+    height: u32,
+    pixels: Vec<Rgb565>,
+}
+
+impl OriginDimensions for E3dTarget {
+    fn size(&self) -> Size {
+        Size::new(self.width, self.height)
+    }
+}
+
+impl DrawTarget for E3dTarget {
+    type Color = Rgb565;
+    type Error = Infallible;
+
+    #[inline]
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(&mut self, pixels: I) -> Result<(), Infallible> {
+        let (w, h) = (self.width as i32, self.height as i32);
+        for Pixel(p, c) in pixels {
+            if (0..w).contains(&p.x) && (0..h).contains(&p.y) {
+                self.pixels[(p.y * w + p.x) as usize] = c;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The Suzanne data as embedded-3dgfx's `Geometry` takes it, built once outside the timing.
+struct E3dSuzanne {
+    faces: Vec<[usize; 3]>,
+    /// One outward unit normal per face (embedded-3dgfx culls and lights only with these).
+    face_normals: Vec<[f32; 3]>,
+}
+
+impl E3dSuzanne {
+    fn new(mesh: &MeshData) -> Self {
+        let faces: Vec<[usize; 3]> =
+            mesh.indices.chunks_exact(3).map(|t| [t[0] as usize, t[1] as usize, t[2] as usize]).collect();
+        // The winding of the converted (left-handed) mesh is not the right-handed one
+        // `Geometry::calculate_face_normal` assumes: orient each face normal by its vertex normals.
+        let face_normals = faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = f.map(|i| mesh.positions[i]);
+                let n = Geometry::calculate_face_normal(&a, &b, &c);
+                let sum = f.iter().fold(Vec3::ZERO, |s, &i| s + Vec3::from(mesh.normals[i]));
+                if Vec3::from(n).dot(sum) < 0.0 {
+                    n.map(|x| -x)
+                } else {
+                    n
+                }
+            })
+            .collect();
+        E3dSuzanne { faces, face_normals }
+    }
+}
+
+/// embedded-3dgfx 0.7 drawing the Suzanne frame: `RenderMode::TexturedGouraud` through
+/// `record` + `execute_with_textures` (its perspective-correct, nearest, repeating texture
+/// lookup, modulated by per-vertex light), z-buffered (`u32` depth), back faces culled by the
+/// face normals.
+///
+/// embedded-3dgfx's camera is right-handed (`look_at_rh`) and soft3d's (Babylon's) left-handed,
+/// so the model matrix is soft3d's world matrix followed by a mirror of x: the same camera
+/// (eye (0, 0, -4), target the origin, vertical field of view 0.8 rad, near 0.1, far 100) then
+/// sees the same picture, and the light direction is mirrored likewise. Its lighting model is
+/// fixed: `white · (n · l) + 0.1 · white` per vertex, quantized to RGB565, with `l` = the
+/// reference light's direction (towards the light) scaled by its intensity 0.8. So it has
+/// ambient 0.1 where the reference lights have 0.2, and a white material of 31/32 (red,
+/// blue) and 63/64 (green).
+struct E3dFrame<'a> {
+    engine: K3dengine,
+    mesh: K3dMesh<'a>,
+    textures: TextureManager<1>,
+    commands: Box<CommandBuffer<E3D_COMMANDS>>,
+    target: E3dTarget,
+    depth: Vec<ZDepth>,
+}
+
+impl<'a> E3dFrame<'a> {
+    fn new(
+        (w, h): (u16, u16),
+        mesh: &'a MeshData,
+        data: &'a E3dSuzanne,
+        world: Mat4,
+        uvs: &'a [[f32; 2]],
+        texture: Texture,
+    ) -> Self {
+        let mut engine = K3dengine::new(w, h);
+        engine.camera.set_position(nalgebra::Point3::new(0.0, 0.0, -4.0));
+        engine.camera.set_target(nalgebra::Point3::origin());
+        engine.camera.set_fovy(0.8);
+        engine.camera.set_near_far(0.1, 100.0);
+
+        let mut textures = TextureManager::<1>::new();
+        let texture_id = textures.add_texture(texture).expect("room for one texture");
+        let geometry = Geometry {
+            vertices: &mesh.positions,
+            faces: &data.faces,
+            colors: &[],
+            lines: &[],
+            normals: &data.face_normals,
+            vertex_normals: &mesh.normals,
+            uvs,
+            texture_id: Some(texture_id),
+        };
+        // The reference light: direction (0.5, -0.5, 1), intensity 0.8. Towards the light,
+        // mirrored in x like the model; embedded-3dgfx negates z of the vector it is given.
+        let towards = -Vec3::new(0.5, -0.5, 1.0).normalize() * 0.8;
+        let mirrored = Vec3::new(-towards.x, towards.y, towards.z);
+        let mut e3d_mesh = K3dMesh::new(geometry);
+        e3d_mesh.set_render_mode(RenderMode::TexturedGouraud(nalgebra::Vector3::new(
+            mirrored.x,
+            mirrored.y,
+            -mirrored.z,
+        )));
+        let mirror_x = nalgebra::Matrix4::new_nonuniform_scaling(&nalgebra::Vector3::new(-1.0, 1.0, 1.0));
+        e3d_mesh.model_matrix = mirror_x * nalgebra::Matrix4::from_column_slice(&world.to_cols_array());
+
+        let n = w as usize * h as usize;
+        E3dFrame {
+            engine,
+            mesh: e3d_mesh,
+            textures,
+            commands: Box::new(CommandBuffer::new()),
+            target: E3dTarget { width: w as u32, height: h as u32, pixels: vec![Rgb565::BLACK; n] },
+            depth: vec![Z_MAX_VALUE; n],
+        }
+    }
+
+    /// Clear colour, then record (which queues the depth clear) and execute.
+    fn render(&mut self) {
+        self.target.pixels.fill(Rgb565::BLACK);
+        self.engine.record(core::iter::once(&self.mesh), &mut self.commands, None).expect("record");
+        let mut ctx = FrameCtx {
+            zbuffer: &mut self.depth,
+            width: self.target.width as usize,
+            height: self.target.height as usize,
+        };
+        self.engine
+            .execute_with_textures(&mut self.target, &mut ctx, &self.commands, &self.textures, None)
+            .expect("execute");
+    }
+
+    fn covered(&self) -> usize {
+        self.depth.iter().filter(|&&d| d != Z_MAX_VALUE).count()
+    }
+}
+
 fn save_png(name: &str, width: u16, pixels: &[Rgb565]) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("out");
     std::fs::create_dir_all(&dir).expect("create out/");
@@ -339,13 +508,15 @@ struct Row {
     scene: String,
     soft3d: Option<f64>,
     euc: Option<f64>,
+    e3d: Option<f64>,
 }
 
 fn main() {
     let mut c = Criterion::default().configure_from_args();
     let mut rows: Vec<Row> = Vec::new();
-    let mut row =
-        |scene: &str, soft3d: Option<f64>, euc: Option<f64>| rows.push(Row { scene: scene.into(), soft3d, euc });
+    let mut row = |scene: &str, soft3d: Option<f64>, euc: Option<f64>| {
+        rows.push(Row { scene: scene.into(), soft3d, euc, e3d: None })
+    };
 
     let (suzanne_scene, suzanne_bytes) = suzanne();
     let suzanne = Model::parse(&suzanne_bytes).expect("parse Suzanne");
@@ -553,18 +724,79 @@ fn main() {
     }
     g.finish();
 
+    // 8: embedded-3dgfx 0.7 on the same Suzanne: same triangles, camera, yaw and texture.
+    let e3d_data = E3dSuzanne::new(mesh);
+    let e3d_texels: &'static [Rgb565] = Box::leak(texels.iter().map(|&t| Rgb565::from_rgb888(t)).collect());
+    let e3d_texture = Texture::new(e3d_texels, texture.width.into(), texture.height.into());
+    let mut g = group(&mut c, "embedded-3dgfx-vs-soft3d");
+    let mut e3d_coverage = Vec::new();
+    for (w, h) in sizes {
+        let job = Job {
+            model: suzanne,
+            transform: reference::transform(),
+            camera: reference::camera(w, h),
+            lights: lights.clone(),
+            opts: reference::options(),
+        };
+        let mut frame = Frame::new(w, h);
+        frame.render(&job, h);
+        let mut e3d = E3dFrame::new((w, h), mesh, &e3d_data, world, uvs, e3d_texture);
+        e3d.render();
+        let (s, e) = (frame.covered(), e3d.covered());
+        let both = frame.depth.iter().zip(&e3d.depth).filter(|(&a, &b)| a != u16::MAX && b != Z_MAX_VALUE).count();
+        let close = frame
+            .color
+            .iter()
+            .zip(&e3d.target.pixels)
+            .filter(|(a, b)| {
+                let (a, b) = (a.to_rgb888(), b.to_rgb888());
+                (0..3).all(|k| a[k].abs_diff(b[k]) <= 16)
+            })
+            .count();
+        println!(
+            "coverage {w}x{h}: soft3d {s} pixels, embedded-3dgfx {e} pixels, both {both}; \
+             {close} of {} pixels agree within 16/255 per channel",
+            w as usize * h as usize
+        );
+        if (w, h) == (reference::WIDTH, reference::HEIGHT) {
+            save_png("bench-embedded-3dgfx.png", w, &e3d.target.pixels);
+        }
+        e3d_coverage.push((w, h, e));
+        let t = bench(&mut g, &format!("embedded-3dgfx/{w}x{h}"), || {
+            e3d.render();
+            std::hint::black_box(&e3d.target.pixels);
+        });
+        // Its column goes on the euc row of the same size, which holds soft3d's time.
+        let scene = format!("Suzanne textured Gouraud {w}x{h} vs euc");
+        if let Some(r) = rows.iter_mut().find(|r| r.scene == scene) {
+            r.e3d = t;
+        }
+    }
+    g.finish();
+
     c.final_summary();
 
     let ms = |t: Option<f64>| t.map_or("-".to_string(), |t| format!("{t:.3}"));
     println!();
-    println!("| scene | soft3d median (ms/frame) | euc median (ms/frame) | euc / soft3d |");
-    println!("|---|---:|---:|---:|");
+    let ratio = |peer: Option<f64>, soft3d: Option<f64>| match (peer, soft3d) {
+        (Some(p), Some(s)) => format!("{:.2}", p / s),
+        _ => "-".into(),
+    };
+    println!(
+        "| scene | soft3d median (ms/frame) | euc median (ms/frame) | euc / soft3d \
+         | embedded-3dgfx median (ms/frame) | embedded-3dgfx / soft3d |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|");
     for r in &rows {
-        let ratio = match (r.soft3d, r.euc) {
-            (Some(s), Some(e)) => format!("{:.2}", e / s),
-            _ => "-".into(),
-        };
-        println!("| {} | {} | {} | {} |", r.scene, ms(r.soft3d), ms(r.euc), ratio);
+        println!(
+            "| {} | {} | {} | {} | {} | {} |",
+            r.scene,
+            ms(r.soft3d),
+            ms(r.euc),
+            ratio(r.euc, r.soft3d),
+            ms(r.e3d),
+            ratio(r.e3d, r.soft3d)
+        );
     }
     if let [Some(one), eight, uncached] = band_times[..] {
         println!();
@@ -576,5 +808,8 @@ fn main() {
     }
     for (w, h, s, e) in coverage {
         println!("coverage {w}x{h}: soft3d {s}, euc {e} pixels");
+    }
+    for (w, h, e) in e3d_coverage {
+        println!("coverage {w}x{h}: embedded-3dgfx {e} pixels");
     }
 }
