@@ -18,7 +18,7 @@ import sys
 
 STAGES = [
     ("pixel loop (depth test, texel, light, store)", ["SpanSink", "span_inline", "fragment::lit_fragment"]),
-    ("rows and spans (edges, plane or exact varyings per run)", ["for_each_span", "raster::Setup<_>::emit", "AffineRows", "draw_affine"]),
+    ("rows and spans (edges, plane or exact varyings per run)", ["for_each_span", "raster::Setup<_>::emit", "WalkedRows", "draw_rows", "linear_row", "exact_row"]),
     ("triangle set-up (edges, depth plane, affine test)", ["Setup", "raster::facing"]),
     ("lighting per vertex", ["Lights", "sqrtf"]),
     ("clipping and projection", ["clip_triangle", "clip::classify", "clip::cut", "draw_clipped", "project",

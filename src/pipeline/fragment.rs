@@ -209,8 +209,8 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         rejected: 0,
         runs: 0,
     };
-    match setup.affine_rows() {
-        Some(rows) => shader.draw_affine(rows),
+    match setup.walked_rows(subspan) {
+        Some(rows) => shader.draw_rows(rows),
         None => setup.for_each_span(subspan, &mut shader),
     }
     stats.pixels_written += shader.written;

@@ -405,14 +405,41 @@ impl<const V: usize> Setup<V> {
         self.affine.is_some()
     }
 
-    /// The rows of an affine triangle for a span loop that walks them itself
-    /// ([`AffineRows`]), when every run's stepped depth provably stays within 0..=2^30 (see
-    /// [`Setup::safe_depth_step`]); `None` otherwise (then [`Setup::for_each_span`]).
+    /// The rows of this triangle for a span loop that walks them itself ([`WalkedRows`]):
+    /// affine triangles, and exact ones with `subspan == 1` and a tolerance (each row a run
+    /// when linear steps between its exact ends are within it, else handed back to
+    /// [`Setup::exact_row`]), when every run's stepped depth provably stays within 0..=2^30
+    /// (see [`Setup::safe_depth_step`]); `None` otherwise (then [`Setup::for_each_span`]).
     #[inline(always)]
-    pub(crate) fn affine_rows(&self) -> Option<AffineRows<'_, V>> {
-        let planes = self.affine.as_ref()?;
+    pub(crate) fn walked_rows(&self, subspan: u32) -> Option<WalkedRows<'_, V>> {
+        let adaptive = subspan <= 1 && self.tolerance.iter().any(|&t| t > 0.0);
+        if self.affine.is_none() && !adaptive {
+            return None;
+        }
         let dz = self.safe_depth_step()?;
-        Some(AffineRows { setup: self, planes, walk: self.row_walk(), y: self.y0, dz })
+        Some(WalkedRows { setup: self, walk: self.row_walk(), y: self.y0, dz })
+    }
+
+    /// The varyings at the first pixel of the row `dy` below the origin (columns `lo..=hi`)
+    /// and their steps, when that row of an exact triangle is one run (see
+    /// [`Setup::exact_row`]: its first segment reaches the row's end); `None` when it is cut
+    /// into shorter runs. Out of line: once per varying count.
+    #[inline(never)]
+    fn linear_row(&self, dy: i32, lo: i32, hi: i32) -> Option<([FDot16; V], [FDot16; V])> {
+        let e: [i32; 3] = core::array::from_fn(|k| {
+            let edge = &self.edges[k];
+            edge.c + edge.b * 16 * dy + edge.a * 16 * lo
+        });
+        let start = self.varyings_at(e);
+        if hi == lo {
+            return Some((start.0, [0; V]));
+        }
+        let end = self.varyings_at(core::array::from_fn(|k| e[k] + self.edges[k].a * 16 * (hi - lo)));
+        if hi > lo + 1 && !self.linear_within(&start, &end) {
+            return None;
+        }
+        let len = hi - lo;
+        Some((start.0, core::array::from_fn(|k| end.0[k].wrapping_sub(start.0[k]) / len)))
     }
 
     /// The per-pixel depth step in 2.30 when every run in the window steps within 0..=2^30
@@ -602,12 +629,11 @@ pub trait SpanSink<const V: usize> {
     fn span(&mut self, span: &Span<V>);
 }
 
-/// An affine triangle's rows, walked by the span loop itself (see [`Setup::affine_rows`]):
-/// the same spans as [`Setup::for_each_span`] hands out, bit for bit, without a call or a
-/// [`Span`] in memory per run.
-pub(crate) struct AffineRows<'s, const V: usize> {
+/// A triangle's rows, walked by the span loop itself (see [`Setup::walked_rows`]): the same
+/// spans as [`Setup::for_each_span`] hands out, bit for bit, without a call or a [`Span`] in
+/// memory per run.
+pub(crate) struct WalkedRows<'s, const V: usize> {
     setup: &'s Setup<V>,
-    planes: &'s AffinePlanes<V>,
     walk: RowWalk,
     /// The next frame row.
     y: i32,
@@ -615,19 +641,22 @@ pub(crate) struct AffineRows<'s, const V: usize> {
     pub(crate) dz: i32,
 }
 
-/// One covered row of an [`AffineRows`]: frame row and column, pixels, depth (2.30) and
-/// varyings at its first pixel.
-pub(crate) type AffineRun<const V: usize> = (i32, i32, u32, Depth30, [FDot16; V]);
+/// One row of [`WalkedRows`].
+pub(crate) enum WalkedRow<const V: usize> {
+    /// No pixel centre covered.
+    Empty,
+    /// One run: frame row and column, pixels, depth (2.30), varyings at its first pixel and
+    /// their steps.
+    Run(i32, i32, u32, Depth30, [FDot16; V], [FDot16; V]),
+    /// An exact row cut into several runs: frame row, rows below the origin, covered columns
+    /// `lo..=hi` of the box, for [`WalkedRows::cut_row`].
+    Cut(i32, i32, i32, i32),
+}
 
-impl<const V: usize> AffineRows<'_, V> {
-    /// The varying steps per pixel.
-    pub(crate) fn steps(&self) -> [FDot16; V] {
-        self.planes.step
-    }
-
-    /// The next row: `None` after the last, `Some(None)` when it covers no pixel centre.
+impl<const V: usize> WalkedRows<'_, V> {
+    /// The next row, `None` after the last.
     #[inline(always)]
-    pub(crate) fn next_row(&mut self) -> Option<Option<AffineRun<V>>> {
+    pub(crate) fn next_row(&mut self) -> Option<WalkedRow<V>> {
         let s = self.setup;
         let y = self.y;
         if y > s.y1 {
@@ -636,11 +665,23 @@ impl<const V: usize> AffineRows<'_, V> {
         self.y += 1;
         let (lo, hi) = self.walk.next_row(s.x1 - s.x0);
         if lo > hi {
-            return Some(None);
+            return Some(WalkedRow::Empty);
         }
         let dy = y - s.origin_row;
+        let (v, dv) = match &s.affine {
+            Some(p) => p.at(lo, dy),
+            None => match s.linear_row(dy, lo, hi) {
+                Some(v_dv) => v_dv,
+                None => return Some(WalkedRow::Cut(y, dy, lo, hi)),
+            },
+        };
         let z = depth40_to_30(s.depth_at(lo, dy)) as Depth30;
-        Some(Some((y, s.x0 + lo, (hi + 1 - lo) as u32, z, self.planes.at(lo, dy).0)))
+        Some(WalkedRow::Run(y, s.x0 + lo, (hi + 1 - lo) as u32, z, v, dv))
+    }
+
+    /// Hands the runs of a [`WalkedRow::Cut`] row to `sink`, as [`Setup::for_each_span`] does.
+    pub(crate) fn cut_row(&self, sink: &mut dyn SpanSink<V>, (y, dy, lo, hi): (i32, i32, i32, i32)) {
+        self.setup.exact_row(sink, 1, (y, dy, lo, hi));
     }
 }
 

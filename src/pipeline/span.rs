@@ -12,7 +12,7 @@
 #![allow(unsafe_code)]
 
 use super::fragment::Lighting;
-use super::raster::{step_varyings, AffineRows, Span, SpanSink};
+use super::raster::{step_varyings, Span, SpanSink, WalkedRow, WalkedRows};
 use super::varyings::texel_coordinates;
 use crate::target::{BandArea, DepthBuffer, DepthCell, FrameColor};
 use crate::texture::{modulate, Repeat565, Sampler};
@@ -122,14 +122,19 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> S
 }
 
 impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
-    /// Draws an affine triangle's rows (see [`AffineRows`]): the same pixels as the runs
+    /// Draws a triangle's rows (see [`WalkedRows`]): the same pixels as the runs
     /// [`SpanSink::span`] gets, walked here so that the triangle's values stay at hand from
-    /// row to row, with no call per run.
-    pub(super) fn draw_affine<const V: usize>(&mut self, mut rows: AffineRows<'_, V>) {
-        let (dz, dv) = (rows.dz, rows.steps());
+    /// row to row, with no call per run (but for exact rows cut into several runs).
+    pub(super) fn draw_rows<const V: usize>(&mut self, mut rows: WalkedRows<'_, V>)
+    where
+        Self: SpanSink<V>,
+    {
+        let dz = rows.dz;
         while let Some(row) = rows.next_row() {
-            if let Some((y, x, len, z, v)) = row {
-                self.span_inline(&Span { y, x, len, z, dz, v, dv });
+            match row {
+                WalkedRow::Run(y, x, len, z, v, dv) => self.span_inline(&Span { y, x, len, z, dz, v, dv }),
+                WalkedRow::Cut(y, dy, lo, hi) => rows.cut_row(self, (y, dy, lo, hi)),
+                WalkedRow::Empty => {}
             }
         }
     }
