@@ -452,14 +452,19 @@ impl<const V: usize> Setup<V> {
     /// columns wide), every run starts and ends within 0..=2^30.
     fn safe_depth_step(&self) -> Option<i32> {
         let dz = i32::try_from(depth40_to_30(self.z_dx)).ok()?;
+        // Below 2^48 each, and with the box within the frame (at most `MAX_DIMENSION` < 2^11
+        // pixels each way), the products and sums below stay within 2^61: no checks needed. A plane beyond that
+        // (a needle triangle's) takes the checked path.
+        let small = |z: i64| z.unsigned_abs() < 1 << 48;
+        if !(small(self.z_origin) && small(self.z_dx) && small(self.z_dy)) {
+            return None;
+        }
         let (w, dy0, dy1) = ((self.x1 - self.x0) as i64, self.y0 - self.origin_row, self.y1 - self.origin_row);
-        let corner = |x: i64, dy: i32| {
-            let z = self.z_origin.checked_add(self.z_dy.checked_mul(dy as i64)?)?;
-            z.checked_add(self.z_dx.checked_mul(x)?)
-        };
-        let inside = |z: Option<i64>| z.is_some_and(|z| ((w + 1) << 10..=1 << 40).contains(&z));
-        (inside(corner(0, dy0)) && inside(corner(w, dy0)) && inside(corner(0, dy1)) && inside(corner(w, dy1)))
-            .then_some(dz)
+        let top = self.z_origin + self.z_dy * dy0 as i64;
+        let bottom = self.z_origin + self.z_dy * dy1 as i64;
+        let across = self.z_dx * w;
+        let inside = |z: i64| ((w + 1) << 10..=1 << 40).contains(&z);
+        (inside(top) && inside(top + across) && inside(bottom) && inside(bottom + across)).then_some(dz)
     }
 
     /// Hands every covered run of pixels to `sink` as [`Span`]s, row by row, left to right:
