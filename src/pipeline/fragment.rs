@@ -209,7 +209,10 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         rejected: 0,
         runs: 0,
     };
-    match setup.walked_rows(subspan) {
+    // The row walk inlines the span loop: only for the variants small targets draw with
+    // (flash: one copy per variant); the rest call it through `dyn` once per run.
+    let walked = if B::WALK_ROWS && !DITHER { setup.walked_rows(subspan) } else { None };
+    match walked {
         Some(rows) => shader.draw_rows(rows),
         None => setup.for_each_span(subspan, &mut shader),
     }

@@ -19,6 +19,10 @@ use crate::texture::{modulate, Repeat565, Sampler};
 
 /// Where a fragment's unlit colour comes from.
 pub(super) trait Base: Copy {
+    /// Whether triangles with this base get a span loop inlined into their row walk (see
+    /// `fragment::fragments`): the fast bases of small targets, not the general sampler.
+    const WALK_ROWS: bool = true;
+
     /// The colour at texel coordinates `(u, v)`, or `None` for a cut-out texel.
     fn base(&self, u: i32, v: i32) -> Option<[u8; 3]>;
 
@@ -54,6 +58,8 @@ impl Base for Repeat565<'_> {
 }
 
 impl Base for Sampler<'_> {
+    const WALK_ROWS: bool = false;
+
     #[inline(always)]
     fn base(&self, u: i32, v: i32) -> Option<[u8; 3]> {
         let t = self.sample(u, v);
