@@ -1,5 +1,6 @@
 //! The pixels of a triangle: the shader variant chosen once per triangle (base colour, light,
-//! dithering, number of varyings) and where a fragment's light comes from ([`Lighting`]). It
+//! dithering, number of varyings), whether its span loop walks the rows itself or gets runs
+//! through `dyn` (see `fragments`), and where a fragment's light comes from ([`Lighting`]). It
 //! does not find which pixels are covered (`raster` does) or run the per-pixel loop (`span`
 //! does).
 

@@ -20,8 +20,10 @@
 //!   pixels along a span and linearly in between (`subspan = 1`: every pixel exact), or, within
 //!   a chosen tolerance ([`Setup::allow_affine`]), from one affine plane per varying (the whole
 //!   triangle) or exactly at the ends of runs as long as the tolerance allows (`subspan = 1`).
-//! - Pixels reach the shader as [`Span`]s: a run of pixels on one row with a first value and a
-//!   per-pixel step for depth and every varying, so the per-pixel loop only adds.
+//! - Pixels reach the shader as runs ([`Span`]s): a run of pixels on one row with a first value
+//!   and a per-pixel step for depth and every varying, so the per-pixel loop only adds. The span
+//!   loop either walks the rows itself ([`Setup::walked_rows`], one run a row, no call) or gets
+//!   the runs through `dyn` ([`Setup::for_each_span`]); both give the same runs, bit for bit.
 //!
 //! Every value here is a function of the triangle and the pixel only, never of the band being
 //! drawn, so a frame drawn in bands is bit-identical to the frame drawn whole. It does not
@@ -406,7 +408,7 @@ impl<const V: usize> Setup<V> {
     }
 
     /// The rows of this triangle for a span loop that walks them itself ([`WalkedRows`]):
-    /// affine triangles, and exact ones with `subspan == 1` and a tolerance (each row a run
+    /// affine triangles, and exact ones with `subspan <= 1` (0 counts as 1) and a tolerance (each row a run
     /// when linear steps between its exact ends are within it, else handed back to
     /// [`Setup::exact_row`]), when every run's stepped depth provably stays within 0..=2^30
     /// (see [`Setup::safe_depth_step`]); `None` otherwise (then [`Setup::for_each_span`]).
@@ -460,6 +462,7 @@ impl<const V: usize> Setup<V> {
             return None;
         }
         let (w, dy0, dy1) = ((self.x1 - self.x0) as i64, self.y0 - self.origin_row, self.y1 - self.origin_row);
+        debug_assert!(w < 1 << 11 && (0..1 << 11).contains(&dy0) && dy1 < 1 << 11);
         let top = self.z_origin + self.z_dy * dy0 as i64;
         let bottom = self.z_origin + self.z_dy * dy1 as i64;
         let across = self.z_dx * w;
@@ -474,7 +477,8 @@ impl<const V: usize> Setup<V> {
     /// tolerance allows stepping linearly between exact ends, halving until it does.
     ///
     /// The sink is called through `dyn`: one copy of this loop per varying count instead of
-    /// one per shader (flash), at the cost of an indirect call per span.
+    /// one per shader (flash), at the cost of an indirect call per span. The common variants
+    /// walk the same rows without that call ([`Setup::walked_rows`]).
     pub fn for_each_span(&self, subspan: u32, sink: &mut dyn SpanSink<V>) {
         // Beyond 4096 no span is long enough to tell the difference; the cap keeps x + subspan
         // from overflowing.

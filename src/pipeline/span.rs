@@ -1,6 +1,7 @@
 //! The span loop: the per-pixel work of a triangle (depth test, base colour, light, store)
-//! over each run of pixels the rasterizer hands out, and where a pixel's base colour comes
-//! from ([`Base`]). It does not choose the variant (`fragment` does) or find the pixels (`raster`
+//! over each run of pixels, and where a pixel's base colour comes from ([`Base`]). Runs come
+//! from the rasterizer through `dyn` ([`SpanSink`]), or, for the fast bases, from the rows the
+//! loop walks itself (`Shader::draw_rows` over `raster::WalkedRows`, with the same body inlined). It does not choose the variant (`fragment` does) or find the pixels (`raster`
 //! does).
 //!
 //! # `unsafe`

@@ -85,7 +85,10 @@ pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'
 }
 
 /// The corners `idx` in the frame's cache, each transformed and lit on first use (`None` when
-/// one is beyond the cache).
+/// one is beyond the cache). All three or none: a cached corner's specular is rounded to 8 bits,
+/// so a triangle mixing cached and fresh corners would light differently. Mixing cannot happen
+/// today (`Model::parse` refuses indices beyond the vertices, and a draw gets its mesh's whole
+/// cache or none), but keep it so if either changes.
 #[inline(always)]
 pub(crate) fn cached_corners<'c, const L: usize>(
     ctx: &Context<'_, L>,
