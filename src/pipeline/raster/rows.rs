@@ -1,0 +1,132 @@
+//! The rows of a triangle walked by the span loop itself ([`WalkedRows`]): the same runs as
+//! [`Setup::for_each_span`] hands out through `dyn`, bit for bit, without a call or a [`Span`] in
+//! memory per run. Affine triangles give a run a row from their planes; exact ones a run a row
+//! when linear steps between the row's exact ends are within tolerance ([`Setup::linear_row`]),
+//! else the row is cut into runs as before ([`WalkedRow::Cut`]). A per-triangle depth bound
+//! ([`Setup::safe_depth_step`]) lets every run skip the depth range test.
+
+#[cfg(doc)]
+use super::Span;
+use super::{RowWalk, Setup, SpanSink};
+use crate::fixed::{depth40_to_30, Depth30, FDot16};
+
+impl<const V: usize> Setup<V> {
+    /// The rows of this triangle for a span loop that walks them itself ([`WalkedRows`]):
+    /// affine triangles, and exact ones with `subspan <= 1` (0 counts as 1) and a tolerance
+    /// (each row a run when linear steps between its exact ends are within it, else handed back
+    /// to [`Setup::exact_row`]), when every run's stepped depth provably stays within 0..=2^30
+    /// (see [`Setup::safe_depth_step`]); `None` otherwise (then [`Setup::for_each_span`]).
+    #[inline(always)]
+    pub(crate) fn walked_rows(&self, subspan: u32) -> Option<WalkedRows<'_, V>> {
+        let adaptive = subspan <= 1 && self.tolerance.iter().any(|&t| t > 0.0);
+        if self.affine.is_none() && !adaptive {
+            return None;
+        }
+        let dz = self.safe_depth_step()?;
+        Some(WalkedRows { setup: self, walk: self.row_walk(), y: self.y0, dz })
+    }
+
+    /// The varyings at the first pixel of the row `dy` below the origin (columns `lo..=hi`)
+    /// and their steps, when that row of an exact triangle is one run (see
+    /// [`Setup::exact_row`]: its first segment reaches the row's end); `None` when it is cut
+    /// into shorter runs. Out of line: once per varying count.
+    #[inline(never)]
+    fn linear_row(&self, dy: i32, lo: i32, hi: i32) -> Option<([FDot16; V], [FDot16; V])> {
+        let e: [i32; 3] = core::array::from_fn(|k| {
+            let edge = &self.edges[k];
+            edge.c + edge.b * 16 * dy + edge.a * 16 * lo
+        });
+        let start = self.varyings_at(e);
+        if hi == lo {
+            return Some((start.0, [0; V]));
+        }
+        let end = self.varyings_at(core::array::from_fn(|k| e[k] + self.edges[k].a * 16 * (hi - lo)));
+        if hi > lo + 1 && !self.linear_within(&start, &end) {
+            return None;
+        }
+        let len = hi - lo;
+        Some((start.0, core::array::from_fn(|k| end.0[k].wrapping_sub(start.0[k]) / len)))
+    }
+
+    /// The per-pixel depth step in 2.30 when every run in the window steps within 0..=2^30
+    /// from its first pixel's depth, so that no run needs the test of [`Setup::emit`].
+    ///
+    /// A run of `len` pixels starting at depth `z` (24.40) steps to `(z >> 10) + dz·(len - 1)`
+    /// with `dz = z_dx >> 10`: at most `z_last / 2^10` and above `z_last / 2^10 - len`, where
+    /// `z_last` is the plane at its last pixel. The plane's extremes over the box are at its
+    /// corners, so when every corner lies in `(width + 1)·2^10 ..= 2^40` (the box `width + 1`
+    /// columns wide), every run starts and ends within 0..=2^30.
+    fn safe_depth_step(&self) -> Option<i32> {
+        let dz = i32::try_from(depth40_to_30(self.z_dx)).ok()?;
+        // Below 2^48 each, and with the box within the frame (at most `MAX_DIMENSION` < 2^11
+        // pixels each way), the products and sums below stay within 2^61: no checks needed. A plane beyond that
+        // (a needle triangle's) takes the checked path.
+        let small = |z: i64| z.unsigned_abs() < 1 << 48;
+        if !(small(self.z_origin) && small(self.z_dx) && small(self.z_dy)) {
+            return None;
+        }
+        let (w, dy0, dy1) = ((self.x1 - self.x0) as i64, self.y0 - self.origin_row, self.y1 - self.origin_row);
+        debug_assert!(w < 1 << 11 && (0..1 << 11).contains(&dy0) && dy1 < 1 << 11);
+        let top = self.z_origin + self.z_dy * dy0 as i64;
+        let bottom = self.z_origin + self.z_dy * dy1 as i64;
+        let across = self.z_dx * w;
+        let inside = |z: i64| ((w + 1) << 10..=1 << 40).contains(&z);
+        (inside(top) && inside(top + across) && inside(bottom) && inside(bottom + across)).then_some(dz)
+    }
+}
+
+/// A triangle's rows, walked by the span loop itself (see [`Setup::walked_rows`]): the same
+/// spans as [`Setup::for_each_span`] hands out, bit for bit, without a call or a [`Span`] in
+/// memory per run.
+pub(crate) struct WalkedRows<'s, const V: usize> {
+    setup: &'s Setup<V>,
+    walk: RowWalk,
+    /// The next frame row.
+    y: i32,
+    /// The per-pixel depth step in 2.30.
+    pub(crate) dz: i32,
+}
+
+/// One row of [`WalkedRows`].
+pub(crate) enum WalkedRow<const V: usize> {
+    /// No pixel centre covered.
+    Empty,
+    /// One run: frame row and column, pixels, depth (2.30), varyings at its first pixel and
+    /// their steps.
+    Run(i32, i32, u32, Depth30, [FDot16; V], [FDot16; V]),
+    /// An exact row cut into several runs: frame row, rows below the origin, covered columns
+    /// `lo..=hi` of the box, for [`WalkedRows::cut_row`].
+    Cut(i32, i32, i32, i32),
+}
+
+impl<const V: usize> WalkedRows<'_, V> {
+    /// The next row, `None` after the last.
+    #[inline(always)]
+    pub(crate) fn next_row(&mut self) -> Option<WalkedRow<V>> {
+        let s = self.setup;
+        let y = self.y;
+        if y > s.y1 {
+            return None;
+        }
+        self.y += 1;
+        let (lo, hi) = self.walk.next_row(s.x1 - s.x0);
+        if lo > hi {
+            return Some(WalkedRow::Empty);
+        }
+        let dy = y - s.origin_row;
+        let (v, dv) = match &s.affine {
+            Some(p) => p.at(lo, dy),
+            None => match s.linear_row(dy, lo, hi) {
+                Some(v_dv) => v_dv,
+                None => return Some(WalkedRow::Cut(y, dy, lo, hi)),
+            },
+        };
+        let z = depth40_to_30(s.depth_at(lo, dy)) as Depth30;
+        Some(WalkedRow::Run(y, s.x0 + lo, (hi + 1 - lo) as u32, z, v, dv))
+    }
+
+    /// Hands the runs of a [`WalkedRow::Cut`] row to `sink`, as [`Setup::for_each_span`] does.
+    pub(crate) fn cut_row(&self, sink: &mut dyn SpanSink<V>, (y, dy, lo, hi): (i32, i32, i32, i32)) {
+        self.setup.exact_row(sink, 1, (y, dy, lo, hi));
+    }
+}
