@@ -1,7 +1,8 @@
 //! The span loop: the per-pixel work of a triangle (depth test, base colour, light, store)
 //! over each run of pixels, and where a pixel's base colour comes from ([`Base`]). Runs come
 //! from the rasterizer through `dyn` ([`SpanSink`]), or, for the fast bases, from the rows the
-//! loop walks itself (`Shader::draw_rows` over `raster::WalkedRows`, with the same body inlined). It does not choose the variant (`fragment` does) or find the pixels (`raster`
+//! loop walks itself (`Shader::draw_rows` over `raster::WalkedRows`, with the same body
+//! inlined). It does not choose the variant (`fragment` does) or find the pixels (`raster`
 //! does).
 //!
 //! # `unsafe`
@@ -126,9 +127,7 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> S
         self.rejected += rejected;
         self.runs += 1;
     }
-}
 
-impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
     /// Draws a triangle's rows (see [`WalkedRows`]): the same pixels as the runs
     /// [`SpanSink::span`] gets, walked here so that the triangle's values stay at hand from
     /// row to row, with no call per run (but for exact rows cut into several runs).
