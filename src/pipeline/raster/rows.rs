@@ -130,3 +130,74 @@ impl<const V: usize> WalkedRows<'_, V> {
         self.setup.exact_row(sink, 1, (y, dy, lo, hi));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{ScreenVertex, Span, SpanSink, Window};
+    use super::*;
+    use std::vec::Vec;
+
+    /// Collects the runs a sink is handed.
+    struct Collect(Vec<Span<3>>);
+
+    impl SpanSink<3> for Collect {
+        fn span(&mut self, span: &Span<3>) {
+            self.0.push(*span);
+        }
+    }
+
+    /// The runs of walked rows, cut rows included, as the span loop sees them.
+    fn walked(setup: &Setup<3>, subspan: u32) -> Option<Vec<Span<3>>> {
+        let mut rows = setup.walked_rows(subspan)?;
+        let (dz, mut out) = (rows.dz, Collect(Vec::new()));
+        while let Some(row) = rows.next_row() {
+            match row {
+                WalkedRow::Run(y, x, len, z, v, dv) => out.0.push(Span { y, x, len, z, dz, v, dv }),
+                WalkedRow::Cut(y, dy, lo, hi) => rows.cut_row(&mut out, (y, dy, lo, hi)),
+                WalkedRow::Empty => {}
+            }
+        }
+        Some(out.0)
+    }
+
+    /// Walked rows give exactly the runs `for_each_span` gives, affine and exact, in every
+    /// band, for random triangles (a small LCG: reproducible without a dependency).
+    #[test]
+    fn walked_rows_equal_the_runs_of_for_each_span() {
+        let mut seed = 0x2545_f491_u64;
+        let mut next = |n: u32| {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            ((seed >> 33) as u32) % n
+        };
+        let (mut walked_affine, mut walked_exact) = (0, 0);
+        for _ in 0..20_000 {
+            let size = [40, 200, 1200][next(3) as usize];
+            // Small varying ranges and near-equal depths make affine triangles; the rest exact.
+            let (range, depth) = ([1 << 8, 1 << 16, 1 << 24][next(3) as usize], [1, 1000][next(2) as usize]);
+            let mut vertex = |next: &mut dyn FnMut(u32) -> u32| ScreenVertex {
+                x: next(size * 16) as i32,
+                y: next(size * 16) as i32,
+                z: next(1000) as f32 / 1000.0,
+                inv_w: 0.5 + next(depth) as f32 / 1000.0,
+                varyings: core::array::from_fn(|_| next(range) as i32 - (range / 2) as i32),
+            };
+            let tri = [vertex(&mut next), vertex(&mut next), vertex(&mut next)];
+            let (row_start, rows) = (next(size) as i32, 1 + next(32) as i32);
+            let window = Window { width: size as i32, row_start, row_end: row_start + rows };
+            let Ok(mut setup) = Setup::<3>::new(&tri, &window, false, false) else { continue };
+            setup.allow_affine([[0, 1 << 8, 1 << 12, 1 << 16][next(4) as usize]; 3]);
+            let subspan = next(3);
+            let Some(walked) = walked(&setup, subspan) else { continue };
+            let mut old = Collect(Vec::new());
+            setup.for_each_span(subspan, &mut old);
+            assert_eq!(walked, old.0, "{tri:?} in {window:?}, subspan {subspan}");
+            if setup.is_affine() {
+                walked_affine += 1;
+            } else {
+                walked_exact += 1;
+            }
+        }
+        // Both kinds were compared, many times over.
+        assert!(walked_affine > 100 && walked_exact > 100, "{walked_affine} affine, {walked_exact} exact");
+    }
+}
