@@ -174,7 +174,7 @@ mod tests {
             let size = [40, 200, 1200][next(3) as usize];
             // Small varying ranges and near-equal depths make affine triangles; the rest exact.
             let (range, depth) = ([1 << 8, 1 << 16, 1 << 24][next(3) as usize], [1, 1000][next(2) as usize]);
-            let mut vertex = |next: &mut dyn FnMut(u32) -> u32| ScreenVertex {
+            let vertex = |next: &mut dyn FnMut(u32) -> u32| ScreenVertex {
                 x: next(size * 16) as i32,
                 y: next(size * 16) as i32,
                 z: next(1000) as f32 / 1000.0,
