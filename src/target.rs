@@ -279,7 +279,8 @@ impl<T: DepthValue> DepthBuffer for &mut [T] {
 #[inline(always)]
 fn z_to_u16(z: u32) -> u16 {
     debug_assert!(z <= 1 << 30);
-    ((z >> 14) - (z >> 30)) as u16
+    // 2^30 (the far plane) saturates to 65535: one instruction (usat) on Cortex-M.
+    ((z as i32) >> 14).clamp(0, 0xffff) as u16
 }
 
 #[inline(always)]

@@ -36,7 +36,9 @@ use crate::fixed::{
 use crate::math::{max, min, to_i32};
 
 mod rows;
+mod walk;
 pub(crate) use rows::{WalkedRow, WalkedRows};
+use walk::RowWalk;
 
 /// A vertex after projection: what the rasterizer needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,63 +87,6 @@ impl Edge {
     }
 }
 
-/// An edge's bound on the covered columns of successive rows, stepped from row to row without
-/// a division. On a row, the edge function at column `x` (pixels from the origin) is
-/// `row + step·x` with `row = c + 16·b·dy` and `step = 16·a`. It is non-negative for
-/// `x >= -floor(row / step)` when `step > 0` and for `x <= floor(row / -step)` when
-/// `step < 0`; with `d = |step|`, `row = q·d + r` (`0 <= r < d`) is carried from row to row
-/// as quotient and remainder, which gives exactly those floors. Flat edges (`step = 0`)
-/// carry `row` itself in `q` (with `d = 1`, `r = 0`).
-#[derive(Clone, Copy, Debug)]
-struct EdgeWalk {
-    q: i32,
-    r: i32,
-    /// `16·b = dq·d + dr`, `0 <= dr < d`.
-    dq: i32,
-    dr: i32,
-    d: i32,
-    step: i32,
-}
-
-impl EdgeWalk {
-    /// The walk of `e` starting on the row `dy` pixels below the origin.
-    fn new(e: &Edge, dy: i32) -> Self {
-        let (row, b16, step) = (e.c + e.b * 16 * dy, e.b * 16, e.a * 16);
-        if step == 0 {
-            return EdgeWalk { q: row, r: 0, dq: b16, dr: 0, d: 1, step };
-        }
-        let d = step.abs();
-        let (q, dq) = (floor_div(row, d), floor_div(b16, d));
-        EdgeWalk { q, r: row - q * d, dq, dr: b16 - dq * d, d, step }
-    }
-
-    /// `[lo, hi]` narrowed to where this edge is non-negative on the current row.
-    #[inline(always)]
-    fn clamp(&self, (lo, hi): (i32, i32)) -> (i32, i32) {
-        if self.step > 0 {
-            (lo.max(-self.q), hi)
-        } else if self.step < 0 {
-            (lo, hi.min(self.q))
-        } else if self.q >= 0 {
-            // A flat edge: the whole row is inside, or all of it outside.
-            (lo, hi)
-        } else {
-            (1, 0)
-        }
-    }
-
-    /// On to the next row.
-    #[inline(always)]
-    fn next_row(&mut self) {
-        self.q += self.dq;
-        self.r += self.dr;
-        if self.r >= self.d {
-            self.r -= self.d;
-            self.q += 1;
-        }
-    }
-}
-
 /// `floor(n / d)` for `d > 0`.
 #[inline(always)]
 fn floor_div(n: i32, d: i32) -> i32 {
@@ -158,20 +103,6 @@ fn floor_div(n: i32, d: i32) -> i32 {
 #[inline(always)]
 fn ceil_div(n: i32, d: i32) -> i32 {
     -floor_div(-n, d)
-}
-
-/// A triangle's three edge walks, stepped together row by row.
-struct RowWalk([EdgeWalk; 3]);
-
-impl RowWalk {
-    /// The current row's covered columns `(lo, hi)` within `0..=last` (empty when `lo > hi`),
-    /// then on to the next row.
-    #[inline(always)]
-    fn next_row(&mut self, last: i32) -> (i32, i32) {
-        let span = self.0.iter().fold((0, last), |span, w| w.clamp(span));
-        self.0.iter_mut().for_each(EdgeWalk::next_row);
-        span
-    }
 }
 
 /// A triangle ready to rasterize: edges, depth plane and varyings relative to the origin pixel.
@@ -454,7 +385,7 @@ impl<const V: usize> Setup<V> {
     /// The edge walks of the window's rows, from its first (see [`Setup::covered_rows`]).
     #[inline(always)]
     fn row_walk(&self) -> RowWalk {
-        RowWalk(self.edges.map(|e| EdgeWalk::new(&e, self.y0 - self.origin_row)))
+        RowWalk::new(&self.edges, self.y0 - self.origin_row)
     }
 
     /// Depth (24.40) at column `x` of the row `dy` below the origin. Wrapping: exact whenever

@@ -106,14 +106,14 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> S
             return;
         };
         let (mut z, mut v) = (s.z, s.v);
-        // Local copies: the loop keeps them in registers instead of reloading through `self`.
-        let base = *self.base;
+        // By reference: copying it into the loop (once a run) costs more than its loads.
+        let base = self.base;
         let (mut rejected, mut cut) = (0, 0);
         for (k, (px, mut cell)) in colors.iter_mut().zip(cells).enumerate() {
             if !cell.passes(z) {
                 rejected += 1;
                 // A cut-out texel writes neither colour nor depth.
-            } else if let Some(c) = lit_fragment::<C, B, Lt, V, DITHER>(&base, self.lighting, &v, (s.x + k as i32, s.y))
+            } else if let Some(c) = lit_fragment::<C, B, Lt, V, DITHER>(base, self.lighting, &v, (s.x + k as i32, s.y))
             {
                 *px = c;
                 cell.store(z);
