@@ -23,7 +23,10 @@ impl<const V: usize> Setup<V> {
             return None;
         }
         let dz = self.safe_depth_step()?;
-        Some(WalkedRows { setup: self, walk: self.row_walk(), y: self.y0, dz })
+        // Gradients within i32 (all but the steepest triangles): the depth at a row's first
+        // pixel is then two 32x32-bit multiply-accumulates (`smlal` on Cortex-M4).
+        let (z_dx, z_dy) = (i32::try_from(self.z_dx).ok()?, i32::try_from(self.z_dy).ok()?);
+        Some(WalkedRows { setup: self, walk: self.row_walk(), y: self.y0, z_dx, z_dy, dz })
     }
 
     /// The varyings at the first pixel of the row `dy` below the origin (columns `lo..=hi`)
@@ -83,6 +86,9 @@ pub(crate) struct WalkedRows<'s, const V: usize> {
     walk: RowWalk,
     /// The next frame row.
     y: i32,
+    /// The depth plane's gradients (24.40), which fit i32 here.
+    z_dx: i32,
+    z_dy: i32,
     /// The per-pixel depth step in 2.30.
     pub(crate) dz: i32,
 }
@@ -121,7 +127,12 @@ impl<const V: usize> WalkedRows<'_, V> {
                 None => return Some(WalkedRow::Cut(y, dy, lo, hi)),
             },
         };
-        let z = depth40_to_30(s.depth_at(lo, dy)) as Depth30;
+        // The same value as `Setup::depth_at` (the same products, wrapping sums).
+        let z40 = s
+            .z_origin
+            .wrapping_add(i64::from(self.z_dx) * i64::from(lo))
+            .wrapping_add(i64::from(self.z_dy) * i64::from(dy));
+        let z = depth40_to_30(z40) as Depth30;
         Some(WalkedRow::Run(y, s.x0 + lo, (hi + 1 - lo) as u32, z, v, dv))
     }
 
