@@ -130,6 +130,7 @@ pub struct PreparedLights<const N: usize> {
 
 impl<const N: usize> PreparedLights<N> {
     /// See [`Lights::at`].
+    #[inline]
     #[must_use]
     pub fn at(&self, p: Vec3, n: Vec3) -> Vec3 {
         let mut sum = self.ambient;

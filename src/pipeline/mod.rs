@@ -438,13 +438,16 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         return stats;
     }
     let setup = DrawSetup::new(band, ctx, *mesh, world);
+    if let Some(cache) = vertices.as_deref_mut() {
+        vertex::fill_cache(ctx, &setup, cache);
+    }
     for sub in mesh.submeshes() {
         let material = sub.material.and_then(|m| model.material(m)).unwrap_or_default();
         let sampler = ctx.sampler(model, mesh, &material);
         let surface = Surface { material: &material, sampler: sampler.as_ref(), flip: setup.flip };
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
         let mut draw =
-            |t: u32, stats: &mut Stats| draw_triangle(band, ctx, &setup, (t, vertices.as_deref_mut()), &surface, stats);
+            |t: u32, stats: &mut Stats| draw_triangle(band, ctx, &setup, (t, vertices.as_deref()), &surface, stats);
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
             Some(seen) => {
                 let (start, end) = (ctx.window.row_start, ctx.window.row_end);

@@ -10,8 +10,8 @@ use super::raster::{facing, facing_of, Reject, ScreenVertex};
 use super::scratch::{TransformedVertex, TriangleRows};
 use super::varyings::{PixelLit, VertexLit};
 use super::vertex::{
-    cached_corners, clip_position, corner_lights, project, texel, texel_scale, vertex_lit_screen, vertex_varyings,
-    Projected,
+    cached_corners, clip_position, corner_lights, project, projected, texel, texel_scale, vertex_lit_screen,
+    vertex_varyings,
 };
 use super::{Context, DrawSetup, Mode, Shading, Stats};
 use crate::format::Material;
@@ -34,60 +34,53 @@ pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
-    (t, vertices): (u32, Option<&mut [TransformedVertex]>),
+    (t, vertices): (u32, Option<&[TransformedVertex]>),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {
-    // Filled in place by the front end: 144 bytes not copied out of it.
-    let mut screen = Screen::new();
-    match front_end(ctx, s, (t, vertices), surface, (band.height, &mut screen), stats) {
+    match front_end(ctx, s, (t, vertices), surface, band.height, stats) {
         Front::Done(rows) => rows,
         // The common case, straight to the fill: a filled triangle whose facing and rows the
         // front end found (what `draw_polygon` would do with them, without its other cases).
-        Front::Inside((Some(area), Some(rows))) if ctx.opts.mode == Mode::Solid => {
-            if let Ok(tri) = <&[ScreenVertex; 3]>::try_from(screen.as_slice()) {
-                fill(band, ctx, tri, Some(area), surface, stats);
-            }
+        Front::Inside(tri, (Some(area), Some(rows))) if ctx.opts.mode == Mode::Solid => {
+            fill(band, ctx, &tri, Some(area), surface, stats);
             rows
         }
-        Front::Inside(known) => draw_polygon(band, ctx, &screen, known, surface, stats),
+        Front::Inside(tri, known) => draw_polygon(band, ctx, &tri, known, surface, stats),
         Front::Clipped(tri) => draw_clipped(band, ctx, &tri, surface, stats),
     }
 }
-
-/// The screen vertices of an unclipped triangle.
-type Screen = heapless::Vec<ScreenVertex, 3>;
 
 /// What the per-triangle front end leaves to draw.
 enum Front {
     /// Nothing to draw in this band; the rows it can touch (for [`Scratch`](super::Scratch)).
     Done(TriangleRows),
-    /// Projected into the [`Screen`], wholly inside the clipping planes, with what [`facing`]
-    /// and [`TriangleRows::of`] said when known.
-    Inside((Option<i64>, Option<TriangleRows>)),
+    /// Projected, wholly inside the clipping planes, with what [`facing`] and
+    /// [`TriangleRows::of`] said when known.
+    Inside([ScreenVertex; 3], (Option<i64>, Option<TriangleRows>)),
     /// Crosses a clipping plane: cut it first.
     Clipped([ClipVertex; 3]),
 }
 
-/// Fetch, transform, cull, light and classify triangle `t`; an unclipped one is projected into
-/// `screen`. Not inlined: its temporaries leave the stack before the rasterizer runs.
+/// Fetch, transform, cull, light and classify triangle `t`. Not inlined: its temporaries leave
+/// the stack before the rasterizer runs.
 #[inline(never)]
 fn front_end<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
-    (t, vertices): (u32, Option<&mut [TransformedVertex]>),
+    (t, vertices): (u32, Option<&[TransformedVertex]>),
     surface: &Surface<'_, '_>,
-    (height, screen): (u16, &mut Screen),
+    height: u16,
     stats: &mut Stats,
 ) -> Front {
     let idx = s.arrays.triangle(t);
     // Without a cache (or for an index beyond it), the corners are transformed here and lit
     // later, once the triangle is known to be drawn.
     let fresh;
-    let (p, lit) = match vertices.and_then(|cache| cached_corners(ctx, s, cache, &idx)) {
+    let (p, lit) = match vertices.and_then(|cache| cached_corners(cache, &idx)) {
         Some(p) => (p, true),
         None => {
-            fresh = idx.map(|i| TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), [0; 4]));
+            fresh = idx.map(|i| TransformedVertex::new(projected(ctx, s, i), [0; 4]));
             (fresh.each_ref(), false)
         }
     };
@@ -133,11 +126,11 @@ fn front_end<const L: usize>(
             return Front::Done(TriangleRows::EMPTY);
         }
         let light = corner_lights(ctx, s, &idx, lights);
-        for k in 0..3 {
-            let varyings = vertex_lit_screen(texels[k], light[k], s.arrays.color(idx[k]));
-            let _ = screen.push(p[k].screen_vertex(varyings));
-        }
-        return Front::Inside((area, known_rows));
+        let colors = s.arrays.has_colors().then(|| idx.map(|i| s.arrays.color(i)));
+        let tri = core::array::from_fn(|k| {
+            p[k].screen_vertex(vertex_lit_screen(texels[k], light[k], colors.map(|c| c[k])))
+        });
+        return Front::Inside(tri, (area, known_rows));
     }
     let varyings = vertex_varyings(ctx, s, &idx, lights, scale);
     let maybe_not_finite = if phong { PixelLit::LEN } else { VertexLit::LIGHT };
@@ -147,10 +140,8 @@ fn front_end<const L: usize>(
     }
     if class == ClipResult::Inside {
         // Saturating casts: huge UVs clamp instead of wrapping.
-        for k in 0..3 {
-            let _ = screen.push(p[k].screen_vertex(varyings[k].map(crate::math::to_i32)));
-        }
-        return Front::Inside((area, known_rows));
+        let tri = core::array::from_fn(|k| p[k].screen_vertex(varyings[k].map(crate::math::to_i32)));
+        return Front::Inside(tri, (area, known_rows));
     }
     Front::Clipped(core::array::from_fn(|k| ClipVertex { pos: clip_position(s, idx[k]), varyings: varyings[k] }))
 }

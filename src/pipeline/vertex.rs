@@ -46,6 +46,7 @@ impl Projected {
 }
 
 /// Vertex `i` in clip space.
+#[inline(always)]
 pub(crate) fn clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
     match &s.fixed {
         Some((t, sphere)) => t.apply(s.arrays.position_int(i, *sphere)),
@@ -59,6 +60,7 @@ pub(crate) fn world_position(s: &DrawSetup<'_>, i: u32) -> Vec3 {
 }
 
 /// Vertex `i`'s world-space unit normal.
+#[inline(always)]
 pub(crate) fn world_normal(s: &DrawSetup<'_>, i: u32) -> Vec3 {
     let n = s.normals * s.arrays.normal(i);
     if s.rotation {
@@ -69,6 +71,7 @@ pub(crate) fn world_normal(s: &DrawSetup<'_>, i: u32) -> Vec3 {
 }
 
 /// Gouraud light of vertex `i` (zero for the other shadings, which do not use it).
+#[inline(always)]
 pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
     if ctx.opts.shading != Shading::Gouraud {
         return [0; 4];
@@ -81,32 +84,62 @@ pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'
     // Directional and hemispheric light need no position.
     let p = if ctx.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
     let l = ctx.vertex_lights.at(p, n);
-    quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(p, n, ctx.eye)])
+    quantize_light([l.x, l.y, l.z, specular(ctx, p, n)])
 }
 
-/// The corners `idx` in the frame's cache, each transformed and lit on first use (`None` when
-/// one is beyond the cache). All three or none: a cached corner's specular is rounded to 8 bits,
-/// so a triangle mixing cached and fresh corners would light differently. Mixing cannot happen
-/// today (`Model::parse` refuses indices beyond the vertices, and a draw gets its mesh's whole
-/// cache or none), but keep it so if either changes.
+/// [`Lights::specular_at`](crate::light::Lights::specular_at), skipped (0) without specular.
 #[inline(always)]
-pub(crate) fn cached_corners<'c, const L: usize>(
-    ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
-    cache: &'c mut [TransformedVertex],
-    idx: &[u32; 3],
-) -> Option<[&'c TransformedVertex; 3]> {
-    if idx.iter().any(|&i| i as usize >= cache.len()) {
-        return None;
+fn specular<const L: usize>(ctx: &Context<'_, L>, p: Vec3, n: Vec3) -> f32 {
+    // Without point lights or specular, specular is off: what `specular_at` would find.
+    if ctx.lit_by_position {
+        ctx.lights.specular_at(p, n, ctx.eye)
+    } else {
+        0.0
     }
-    for &i in idx {
-        let v = &mut cache[i as usize];
-        if v.inv_w.to_bits() == UNKNOWN_INV_W {
-            *v = TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), vertex_light(ctx, s, i));
-        }
+}
+
+/// Vertex `i` transformed, projected and lit: its cache entry.
+#[inline(always)]
+fn transformed_vertex<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> TransformedVertex {
+    TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), vertex_light(ctx, s, i))
+}
+
+/// Vertex `i` transformed and projected, not lit: for draws without a vertex cache. Not
+/// inlined, as [`transformed_vertex`].
+#[inline(never)]
+pub(crate) fn projected<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> Projected {
+    Projected::new(ctx, clip_position(s, i))
+}
+
+/// The Gouraud light of corners `idx` (see [`vertex_light`]). Not inlined, as
+/// [`transformed_vertex`].
+#[inline(never)]
+fn vertex_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u32; 3]) -> [VertexLight; 3] {
+    idx.map(|i| vertex_light(ctx, s, i))
+}
+
+/// Fills a draw's vertex cache, every vertex transformed, projected and lit, unless this frame
+/// already did (its first vertex is known). All at once rather than on first use: the loop keeps
+/// the matrices and lights at hand, and a triangle's corners are then plain loads. A first vertex
+/// whose `1/w` really is +0 only makes every band fill it again, with the same results.
+pub(crate) fn fill_cache<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, cache: &mut [TransformedVertex]) {
+    if cache.first().is_some_and(|v| v.inv_w.to_bits() != UNKNOWN_INV_W) {
+        return;
     }
-    let cache = &*cache;
-    Some(idx.map(|i| &cache[i as usize]))
+    for (i, v) in (0u32..).zip(cache.iter_mut()) {
+        *v = transformed_vertex(ctx, s, i);
+    }
+}
+
+/// The corners `idx` in a filled cache (see [`fill_cache`]); `None` when one is beyond it. All
+/// three or none: a cached corner's specular is rounded to 8 bits, so a triangle mixing cached
+/// and fresh corners would light differently. Mixing cannot happen today (`Model::parse`
+/// refuses indices beyond the vertices, and a draw gets its mesh's whole cache or none), but
+/// keep it so if either changes.
+#[inline(always)]
+pub(crate) fn cached_corners<'c>(cache: &'c [TransformedVertex], idx: &[u32; 3]) -> Option<[&'c TransformedVertex; 3]> {
+    let [a, b, c] = idx.map(|i| cache.get(i as usize));
+    Some([a?, b?, c?])
 }
 
 /// The light (and specular) of each corner for the vertex-lit shadings: per vertex (Gouraud),
@@ -122,7 +155,7 @@ pub(crate) fn corner_lights<const L: usize>(
     match ctx.opts.shading {
         Shading::Unlit | Shading::Phong => [[u16::MAX, u16::MAX, u16::MAX, 0]; 3],
         Shading::Flat => [face_light(ctx, s, idx); 3],
-        Shading::Gouraud => gouraud.unwrap_or_else(|| idx.map(|i| vertex_light(ctx, s, i))),
+        Shading::Gouraud => gouraud.unwrap_or_else(|| vertex_lights(ctx, s, idx)),
     }
 }
 
@@ -139,7 +172,7 @@ fn face_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u3
     }
     let centre = (p[0] + p[1] + p[2]) / 3.0;
     let l = ctx.vertex_lights.at(centre, n);
-    quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(centre, n, ctx.eye)])
+    quantize_light([l.x, l.y, l.z, specular(ctx, centre, n)])
 }
 
 /// The size of `sampler`'s texture in [`FDot16`](crate::fixed::FDot16) texels (zero without
@@ -167,7 +200,8 @@ fn coloured(light: u16, c: u8) -> f32 {
 }
 
 /// [`coloured`] converted to fixed point: for white, the light itself, which is what the float
-/// product converts to (a 16-bit integer is exact in f32), without float operations.
+/// product converts to (a 16-bit integer is exact in f32), without float operations (as for
+/// meshes without vertex colours, which are white).
 #[inline(always)]
 fn coloured_fixed(light: u16, c: u8) -> i32 {
     if c == 255 {
@@ -178,15 +212,19 @@ fn coloured_fixed(light: u16, c: u8) -> i32 {
 }
 
 /// The varyings of an unclipped, vertex-lit corner, converted as [`project`] converts them:
-/// texel coordinates (saturating), light, specular; the slots no vertex-lit variant reads
-/// stay zero. `texel`: the corner's [`texel`], already checked finite.
+/// texel coordinates (saturating), light (times the vertex colour, `None` for white),
+/// specular; the slots no vertex-lit variant reads stay zero. `texel`: the corner's [`texel`],
+/// already checked finite.
 #[inline(always)]
-pub(crate) fn vertex_lit_screen(texel: [f32; 2], light: VertexLight, color: [u8; 4]) -> ScreenVaryings {
+pub(crate) fn vertex_lit_screen(texel: [f32; 2], light: VertexLight, color: Option<[u8; 4]>) -> ScreenVaryings {
     let mut v = [0; MAX_VARYINGS];
     v[VertexLit::U] = crate::math::to_i32(texel[0]);
     v[VertexLit::V] = crate::math::to_i32(texel[1]);
     for ch in 0..3 {
-        v[VertexLit::LIGHT + ch] = coloured_fixed(light[ch], color[ch]);
+        v[VertexLit::LIGHT + ch] = match color {
+            Some(c) => coloured_fixed(light[ch], c[ch]),
+            None => i32::from(light[ch]),
+        };
     }
     v[VertexLit::SPECULAR] = i32::from(light[3]);
     v
