@@ -129,8 +129,9 @@ pub struct PreparedLights<const N: usize> {
 }
 
 impl<const N: usize> PreparedLights<N> {
-    /// See [`Lights::at`].
-    #[inline]
+    /// See [`Lights::at`]. Inlined: once a vertex, where its call would cost as much as its
+    /// arithmetic.
+    #[inline(always)]
     #[must_use]
     pub fn at(&self, p: Vec3, n: Vec3) -> Vec3 {
         let mut sum = self.ambient;

@@ -9,7 +9,7 @@ use super::raster::ScreenVertex;
 use super::scratch::{TransformedVertex, UNKNOWN_INV_W};
 use super::varyings::{ClipVaryings, PixelLit, ScreenVaryings, VertexLit, MAX_VARYINGS};
 use super::{Context, DrawSetup, Shading};
-use crate::fixed::{fdot4_floor, FDot4, FDOT16_ONE};
+use crate::fixed::{fdot4_floor, FDot16, FDot4, FDOT16_ONE};
 use crate::math::{normalize_or_zero, Vec3, Vec4};
 use crate::texture::Sampler;
 
@@ -42,6 +42,12 @@ impl Projected {
     pub(crate) fn new<const L: usize>(ctx: &Context<'_, L>, clip: Vec4) -> Self {
         let xy = project_xy(clip, ctx.half);
         Projected { x: xy.x, y: xy.y, z: depth(clip, xy.inv_w), inv_w: xy.inv_w, outcode: outcode(clip, &ctx.guard) }
+    }
+
+    /// This vertex on the screen, carrying `varyings`.
+    #[inline(always)]
+    pub(crate) fn screen_vertex(&self, varyings: ScreenVaryings) -> ScreenVertex {
+        ScreenVertex { x: self.x, y: self.y, z: self.z, inv_w: self.inv_w, varyings }
     }
 }
 
@@ -98,65 +104,102 @@ fn specular<const L: usize>(ctx: &Context<'_, L>, p: Vec3, n: Vec3) -> f32 {
     }
 }
 
-/// Vertex `i` transformed, projected and lit: its cache entry.
+/// The light of unlit corners (and of Phong's, which light per pixel instead): full white.
+const WHITE: VertexLight = [u16::MAX, u16::MAX, u16::MAX, 0];
+
+/// Vertex `i` transformed, projected and lit, with texel coordinates for the texel scale
+/// `scale` ([`texel_scale`]): its cache entry. Its light is the corner light of the shadings
+/// that light per vertex or not at all (zero for flat and Phong, which light otherwise).
 #[inline(always)]
-fn transformed_vertex<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> TransformedVertex {
-    TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), vertex_light(ctx, s, i))
+fn transformed_vertex<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    i: u32,
+    scale: (f32, f32),
+) -> TransformedVertex {
+    let light = if ctx.opts.shading == Shading::Unlit { WHITE } else { vertex_light(ctx, s, i) };
+    TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), texel(s, i, scale), coloured_light(s, i, light))
 }
 
-/// Vertex `i` transformed and projected, not lit: for draws without a vertex cache. Not
-/// inlined, as [`transformed_vertex`].
+/// Vertex `i` transformed and projected, not lit: for triangles drawn without the vertex cache.
+/// Not inlined: it runs for the rare triangles that need clipping, and for draws without a
+/// cache.
 #[inline(never)]
 pub(crate) fn projected<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> Projected {
     Projected::new(ctx, clip_position(s, i))
 }
 
-/// The Gouraud light of corners `idx` (see [`vertex_light`]). Not inlined, as
-/// [`transformed_vertex`].
+/// The Gouraud light of corners `idx` (see [`vertex_light`]). Not inlined, as [`projected`].
 #[inline(never)]
 fn vertex_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u32; 3]) -> [VertexLight; 3] {
     idx.map(|i| vertex_light(ctx, s, i))
 }
 
-/// Fills a draw's vertex cache, every vertex transformed, projected and lit, unless this frame
-/// already did (its first vertex is known). All at once rather than on first use: the loop keeps
-/// the matrices and lights at hand, and a triangle's corners are then plain loads. A first vertex
-/// whose `1/w` really is +0 only makes every band fill it again, with the same results.
-pub(crate) fn fill_cache<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, cache: &mut [TransformedVertex]) {
+/// Fills a draw's vertex cache, every vertex transformed, projected and lit with texel
+/// coordinates for the texel scale `scale`, unless this frame already did (its first vertex is
+/// known). All at once rather than on first use: the loop keeps the matrices and lights at
+/// hand, and a triangle's corners are then plain loads. A first vertex whose `1/w` really is +0
+/// only makes every band fill it again, with the same results. Not inlined: its frame is gone
+/// before the triangles are drawn (the deepest stack).
+#[inline(never)]
+pub(crate) fn fill_cache<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    cache: &mut [TransformedVertex],
+    scale: (f32, f32),
+) {
     if cache.first().is_some_and(|v| v.inv_w.to_bits() != UNKNOWN_INV_W) {
         return;
     }
     for (i, v) in (0u32..).zip(cache.iter_mut()) {
-        *v = transformed_vertex(ctx, s, i);
+        *v = transformed_vertex(ctx, s, i, scale);
     }
 }
 
-/// The corners `idx` in a filled cache (see [`fill_cache`]); `None` when one is beyond it. All
-/// three or none: a cached corner's specular is rounded to 8 bits, so a triangle mixing cached
-/// and fresh corners would light differently. Mixing cannot happen today (`Model::parse`
-/// refuses indices beyond the vertices, and a draw gets its mesh's whole cache or none), but
-/// keep it so if either changes.
+/// The corners `idx` in a filled cache (see [`fill_cache`]); `None` when one is beyond it (a
+/// draw gets its mesh's whole cache or none, and `Model::parse` refuses indices beyond the
+/// vertices, so only if either changes).
 #[inline(always)]
 pub(crate) fn cached_corners<'c>(cache: &'c [TransformedVertex], idx: &[u32; 3]) -> Option<[&'c TransformedVertex; 3]> {
     let [a, b, c] = idx.map(|i| cache.get(i as usize));
     Some([a?, b?, c?])
 }
 
-/// The light (and specular) of each corner for the vertex-lit shadings: per vertex (Gouraud),
-/// per face (flat) or full white (unlit, and Phong, which lights per pixel instead).
-/// `gouraud`: the vertices' [`vertex_light`]s when already known.
+/// `light` times vertex `i`'s colour, as the varyings carry it: red, green and blue scaled (see
+/// [`coloured_fixed`]), specular as is.
 #[inline(always)]
-pub(crate) fn corner_lights<const L: usize>(
+pub(crate) fn coloured_light(s: &DrawSetup<'_>, i: u32, light: VertexLight) -> VertexLight {
+    if !s.arrays.has_colors() {
+        return light;
+    }
+    let c = s.arrays.color(i);
+    // At most the light itself (a colour channel is at most 1): within u16.
+    let [r, g, b] = [0, 1, 2].map(|ch| coloured_fixed(light[ch], c[ch]) as u16);
+    [r, g, b, light[3]]
+}
+
+/// The light (and specular) of each corner for the vertex-lit shadings: per vertex (Gouraud),
+/// per face (flat) or full white (unlit, and Phong, which lights per pixel instead); not
+/// yet times the vertex colours.
+#[inline(always)]
+pub(crate) fn corner_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u32; 3]) -> [VertexLight; 3] {
+    match ctx.opts.shading {
+        Shading::Unlit | Shading::Phong => [WHITE; 3],
+        Shading::Flat => [face_light(ctx, s, idx); 3],
+        Shading::Gouraud => vertex_lights(ctx, s, idx),
+    }
+}
+
+/// The light varyings of flat-lit triangle `idx`'s corners: its face light times each
+/// corner's colour.
+#[inline(always)]
+pub(crate) fn flat_corner_lights<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     idx: &[u32; 3],
-    gouraud: Option<[VertexLight; 3]>,
 ) -> [VertexLight; 3] {
-    match ctx.opts.shading {
-        Shading::Unlit | Shading::Phong => [[u16::MAX, u16::MAX, u16::MAX, 0]; 3],
-        Shading::Flat => [face_light(ctx, s, idx); 3],
-        Shading::Gouraud => gouraud.unwrap_or_else(|| vertex_lights(ctx, s, idx)),
-    }
+    let light = face_light(ctx, s, idx);
+    idx.map(|i| coloured_light(s, i, light))
 }
 
 /// The flat light of triangle `idx`. Not inlined: the common (Gouraud) path stays small.
@@ -212,35 +255,36 @@ fn coloured_fixed(light: u16, c: u8) -> i32 {
 }
 
 /// The varyings of an unclipped, vertex-lit corner, converted as [`project`] converts them:
-/// texel coordinates (saturating), light (times the vertex colour, `None` for white),
-/// specular; the slots no vertex-lit variant reads stay zero. `texel`: the corner's [`texel`],
-/// already checked finite.
+/// texel coordinates (saturating), light varyings ([`coloured_light`]), specular; the slots no
+/// vertex-lit variant reads stay zero. `texel`: the corner's [`texel`], already checked finite.
 #[inline(always)]
-pub(crate) fn vertex_lit_screen(texel: [f32; 2], light: VertexLight, color: Option<[u8; 4]>) -> ScreenVaryings {
+pub(crate) fn vertex_lit_screen(texel: [f32; 2], light: VertexLight) -> ScreenVaryings {
+    vertex_lit_varyings(texel.map(crate::math::to_i32), light)
+}
+
+/// The varyings of a vertex-lit corner from its texel coordinates (16.16) and light varyings.
+#[inline(always)]
+pub(crate) fn vertex_lit_varyings(texel: [FDot16; 2], light: VertexLight) -> ScreenVaryings {
     let mut v = [0; MAX_VARYINGS];
-    v[VertexLit::U] = crate::math::to_i32(texel[0]);
-    v[VertexLit::V] = crate::math::to_i32(texel[1]);
+    v[VertexLit::U] = texel[0];
+    v[VertexLit::V] = texel[1];
     for ch in 0..3 {
-        v[VertexLit::LIGHT + ch] = match color {
-            Some(c) => coloured_fixed(light[ch], c[ch]),
-            None => i32::from(light[ch]),
-        };
+        v[VertexLit::LIGHT + ch] = i32::from(light[ch]);
     }
     v[VertexLit::SPECULAR] = i32::from(light[3]);
     v
 }
 
 /// The triangle's varyings for the shading mode (see the slot constants), in f32 for clipping.
-/// `gouraud`: the vertices' [`vertex_light`]s when already known; `scale`: [`texel_scale`].
+/// `scale`: [`texel_scale`].
 pub(crate) fn vertex_varyings<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     idx: &[u32; 3],
-    gouraud: Option<[VertexLight; 3]>,
     scale: (f32, f32),
 ) -> [ClipVaryings; 3] {
     let phong = ctx.opts.shading == Shading::Phong;
-    let lit = if phong { [[0; 4]; 3] } else { corner_lights(ctx, s, idx, gouraud) };
+    let lit = if phong { [[0; 4]; 3] } else { corner_lights(ctx, s, idx) };
     core::array::from_fn(|k| {
         let mut varyings = [0.0; MAX_VARYINGS];
         varyings[VertexLit::U..=VertexLit::V].copy_from_slice(&texel(s, idx[k], scale));
