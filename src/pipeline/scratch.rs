@@ -238,9 +238,9 @@ impl TransformedVertex {
     };
 
     /// The entry of a vertex projected to `p` with texel coordinates `texel` (f32, see
-    /// `vertex::texel`) and light varyings `light`.
+    /// `vertex::texel`), not lit yet ([`Self::set_light`]).
     #[inline(always)]
-    pub(crate) fn new(p: Projected, texel: [f32; 2], [r, g, b, specular]: VertexLight) -> Self {
+    pub(crate) fn new(p: Projected, texel: [f32; 2]) -> Self {
         let xy = (i16::try_from(p.x), i16::try_from(p.y));
         let fits = xy.0.is_ok() && xy.1.is_ok() && texel.iter().all(|t| t.is_finite());
         TransformedVertex {
@@ -248,10 +248,16 @@ impl TransformedVertex {
             z: p.z,
             inv_w: p.inv_w,
             texel: texel.map(crate::math::to_i32),
-            light: [r, g, b],
-            specular: (specular / 257) as u8,
+            light: [0; 3],
+            specular: 0,
             outcode: p.outcode | if fits { 0 } else { NEEDS_CLIP },
         }
+    }
+
+    /// Sets its light varyings.
+    #[inline(always)]
+    pub(crate) fn set_light(&mut self, [r, g, b, specular]: VertexLight) {
+        (self.light, self.specular) = ([r, g, b], (specular / 257) as u8);
     }
 
     /// This vertex on the screen with its texel coordinates and the light varyings `light`.

@@ -19,7 +19,10 @@ use crate::texture::Sampler;
 /// highlight colour.
 pub(crate) type VertexLight = [u16; 4];
 
-/// Quantizes light values in 0..=1 (red, green, blue, specular) to [`VertexLight`].
+/// Quantizes light values in 0..=1 (red, green, blue, specular) to [`VertexLight`]. Light
+/// outside 0..=1 (or NaN) quantizes as if clamped to it first: to 0 or 65535, as the rounding
+/// `x · 65536 + 0.5` is monotonic and the integer clamp takes what it gives below 0 or above
+/// 65535 (NaN converts to 0).
 pub(crate) fn quantize_light([r, g, b, specular]: [f32; 4]) -> VertexLight {
     // Saturating, as `as u16` would, in integer code without an FPU.
     let [r, g, b] = [r, g, b].map(|x| crate::math::to_i32(x * FDOT16_ONE + 0.5).clamp(0, 0xffff) as u16);
@@ -89,7 +92,8 @@ pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'
     let n = world_normal(s, i);
     // Directional and hemispheric light need no position.
     let p = if ctx.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
-    let l = ctx.vertex_lights.at(p, n);
+    // Clamped by the quantization.
+    let l = ctx.vertex_lights.unclamped_at(p, n);
     quantize_light([l.x, l.y, l.z, specular(ctx, p, n)])
 }
 
@@ -107,18 +111,12 @@ fn specular<const L: usize>(ctx: &Context<'_, L>, p: Vec3, n: Vec3) -> f32 {
 /// The light of unlit corners (and of Phong's, which light per pixel instead): full white.
 const WHITE: VertexLight = [u16::MAX, u16::MAX, u16::MAX, 0];
 
-/// Vertex `i` transformed, projected and lit, with texel coordinates for the texel scale
-/// `scale` ([`texel_scale`]): its cache entry. Its light is the corner light of the shadings
-/// that light per vertex or not at all (zero for flat and Phong, which light otherwise).
+/// The light varyings of vertex `i`'s cache entry: the corner light of the shadings that light
+/// per vertex or not at all (zero for flat and Phong, which light otherwise), times its colour.
 #[inline(always)]
-fn transformed_vertex<const L: usize>(
-    ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
-    i: u32,
-    scale: (f32, f32),
-) -> TransformedVertex {
+fn cached_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
     let light = if ctx.opts.shading == Shading::Unlit { WHITE } else { vertex_light(ctx, s, i) };
-    TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), texel(s, i, scale), coloured_light(s, i, light))
+    coloured_light(s, i, light)
 }
 
 /// Vertex `i` transformed and projected, not lit: for triangles drawn without the vertex cache.
@@ -136,11 +134,12 @@ fn vertex_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &
 }
 
 /// Fills a draw's vertex cache, every vertex transformed, projected and lit with texel
-/// coordinates for the texel scale `scale`, unless this frame already did (its first vertex is
-/// known). All at once rather than on first use: the loop keeps the matrices and lights at
-/// hand, and a triangle's corners are then plain loads. A first vertex whose `1/w` really is +0
-/// only makes every band fill it again, with the same results. Not inlined: its frame is gone
-/// before the triangles are drawn (the deepest stack).
+/// coordinates for the texel scale `scale` ([`texel_scale`]), unless this frame already did
+/// (its first vertex is known). All at once rather than on first use: the loops keep the
+/// matrices and lights at hand (positions in one, light in another, so that each has registers
+/// enough), and a triangle's corners are then plain loads. A first vertex whose `1/w` really
+/// is +0 only makes every band fill it again, with the same results. Not inlined: its frame is
+/// gone before the triangles are drawn (the deepest stack).
 #[inline(never)]
 pub(crate) fn fill_cache<const L: usize>(
     ctx: &Context<'_, L>,
@@ -152,7 +151,10 @@ pub(crate) fn fill_cache<const L: usize>(
         return;
     }
     for (i, v) in (0u32..).zip(cache.iter_mut()) {
-        *v = transformed_vertex(ctx, s, i, scale);
+        *v = TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), texel(s, i, scale));
+    }
+    for (i, v) in (0u32..).zip(cache.iter_mut()) {
+        v.set_light(cached_light(ctx, s, i));
     }
 }
 
@@ -214,7 +216,8 @@ fn face_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u3
         n = -n;
     }
     let centre = (p[0] + p[1] + p[2]) / 3.0;
-    let l = ctx.vertex_lights.at(centre, n);
+    // Clamped by the quantization.
+    let l = ctx.vertex_lights.unclamped_at(centre, n);
     quantize_light([l.x, l.y, l.z, specular(ctx, centre, n)])
 }
 
@@ -324,4 +327,21 @@ pub(crate) fn project_xy(pos: Vec4, (hw, hh): (f32, f32)) -> ScreenVertex {
     let y = (1.0 - pos.y * inv_w) * hh;
     let snap = fdot4_floor;
     ScreenVertex { x: snap(x), y: snap(y), z: 0.0, inv_w, varyings: [0; MAX_VARYINGS] }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Light is quantized as if clamped to 0..=1 first, so the light sums need no clamp.
+    #[test]
+    fn quantizing_clamps_light() {
+        let special = [0.0, -0.0, 1.0, -1.0, 0.5, 1.0 + f32::EPSILON, -f32::MIN_POSITIVE, f32::MAX, f32::MIN];
+        let specials = special.into_iter().chain([f32::INFINITY, f32::NEG_INFINITY, f32::NAN]);
+        let steps = (0..=40_000).map(|k| k as f32 / 10_000.0 - 2.0);
+        for x in specials.chain(steps).chain((0..=65_536).map(|k| k as f32 / 65_536.0 + 1.0 / 131_072.0)) {
+            let c = crate::math::clamp01(x);
+            assert_eq!(quantize_light([x, x, x, 0.0]), quantize_light([c, c, c, 0.0]), "{x}");
+        }
+    }
 }
