@@ -34,11 +34,11 @@ pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
-    (t, vertices): (u32, Option<&[TransformedVertex]>),
+    t: u32,
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {
-    match front_end(ctx, s, (t, vertices), surface, band.height, stats) {
+    match front_end(ctx, s, t, surface, stats) {
         Front::Done(rows) => rows,
         // The common case, straight to the fill: a filled triangle whose facing and rows the
         // front end found (what `draw_polygon` would do with them, without its other cases).
@@ -69,14 +69,13 @@ enum Front {
 fn front_end<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
-    (t, vertices): (u32, Option<&[TransformedVertex]>),
+    t: u32,
     surface: &Surface<'_, '_>,
-    height: u16,
     stats: &mut Stats,
 ) -> Front {
     let idx = s.arrays.triangle(t);
     // Cached corners whose triangle needs no clipping, in front of the eye; else fresh ones.
-    let corners = match vertices.and_then(|cache| cached_corners(cache, &idx)) {
+    let corners = match s.vertices.and_then(|cache| cached_corners(cache, &idx)) {
         Some(p) if (p[0].outcode | p[1].outcode | p[2].outcode) & NEEDS_CLIP == 0 && w_ok(p.map(|p| p.inv_w)) => {
             Ok(p)
         }
@@ -93,7 +92,7 @@ fn front_end<const L: usize>(
     }
     let mut known = (None, None);
     if corners.is_ok() || w_ok(xyw.map(|p| p.2)) {
-        match cull(ctx, xyw, surface, height, stats) {
+        match cull(ctx, xyw, surface, stats) {
             Ok((area, rows)) => known = (area, Some(rows)),
             Err(rows) => return Front::Done(rows),
         }
@@ -127,7 +126,6 @@ fn cull<const L: usize>(
     ctx: &Context<'_, L>,
     xyw: [(i32, i32, f32); 3],
     surface: &Surface<'_, '_>,
-    height: u16,
     stats: &mut Stats,
 ) -> Result<(Option<i64>, TriangleRows), TriangleRows> {
     let area = match facing_of(xyw, surface.material.cull_back_faces, surface.flip) {
@@ -143,7 +141,7 @@ fn cull<const L: usize>(
     // cannot touch this band is not lit, clipped or set up here (a row cache learns its rows
     // for the later bands).
     let ys = xyw.map(|p| p.1);
-    let rows = TriangleRows::of_ys(ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]), height);
+    let rows = TriangleRows::of_ys(ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]), ctx.height);
     if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
         stats.outside_band += 1;
         return Err(rows);
