@@ -74,11 +74,9 @@ fn front_end<const L: usize>(
     stats: &mut Stats,
 ) -> Front {
     let idx = s.arrays.triangle(t);
-    // Cached corners whose triangle needs no clipping, in front of the eye; else fresh ones.
+    // Cached corners whose triangle needs no clipping; else fresh ones.
     let corners = match s.vertices.and_then(|cache| cached_corners(cache, &idx)) {
-        Some(p) if (p[0].outcode | p[1].outcode | p[2].outcode) & NEEDS_CLIP == 0 && w_ok(p.map(|p| p.inv_w)) => {
-            Ok(p)
-        }
+        Some(p) if (p[0].outcode | p[1].outcode | p[2].outcode) & NEEDS_CLIP == 0 => Ok(p),
         _ => Err(idx.map(|i| projected(ctx, s, i))),
     };
     let (xyw, codes) = match &corners {
@@ -91,7 +89,7 @@ fn front_end<const L: usize>(
         return Front::Done(TriangleRows::EMPTY);
     }
     let mut known = (None, None);
-    if corners.is_ok() || w_ok(xyw.map(|p| p.2)) {
+    if w_ok(xyw.map(|p| p.2)) {
         match cull(ctx, xyw, surface, stats) {
             Ok((area, rows)) => known = (area, Some(rows)),
             Err(rows) => return Front::Done(rows),
