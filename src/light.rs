@@ -132,6 +132,16 @@ impl<const N: usize> PreparedLights<N> {
     /// See [`Lights::at`].
     #[must_use]
     pub fn at(&self, p: Vec3, n: Vec3) -> Vec3 {
+        let sum = self.unclamped_at(p, n);
+        Vec3::new(clamp01(sum.x), clamp01(sum.y), clamp01(sum.z))
+    }
+
+    /// [`PreparedLights::at`] before clamping to 0..=1: for callers that clamp anyway (the
+    /// quantized vertex light). Inlined: once a vertex, where its call would cost as much as
+    /// its arithmetic.
+    #[inline(always)]
+    #[must_use]
+    pub(crate) fn unclamped_at(&self, p: Vec3, n: Vec3) -> Vec3 {
         let mut sum = self.ambient;
         for l in &self.lights {
             let k = match l.kind {
@@ -141,7 +151,7 @@ impl<const N: usize> PreparedLights<N> {
             };
             sum += l.diffuse * (k * l.intensity);
         }
-        Vec3::new(clamp01(sum.x), clamp01(sum.y), clamp01(sum.z))
+        sum
     }
 }
 

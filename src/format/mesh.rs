@@ -304,6 +304,13 @@ impl Arrays<'_> {
         self.uvs.and_then(|u| u.get(i as usize)).map_or([0; 2], |r| [u16_at(r, 0), u16_at(r, 2)])
     }
 
+    /// Whether the mesh has vertex colours (without, [`Arrays::color`] is opaque white).
+    #[inline]
+    #[must_use]
+    pub fn has_colors(&self) -> bool {
+        self.colors.is_some()
+    }
+
     /// See [`Mesh::color`].
     #[inline]
     #[must_use]

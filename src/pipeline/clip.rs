@@ -79,7 +79,8 @@ pub(crate) fn outcode(p: Vec4, guard: &GuardBand) -> u8 {
 
 /// [`outcode`] with float comparisons. Each plane test `a + b < 0` is `a < -b`, exactly (a
 /// float sum is zero only for opposite operands, and rounding keeps its sign): no additions,
-/// and only the guard band's two products.
+/// and only the guard band's two products. The guard band's two planes of an axis are one
+/// test: for finite `x` and non-NaN `g`, `|x| > g` is `x < -g || g < x`.
 #[cfg_attr(soft_float, allow(dead_code))]
 fn outcode_by_floats(p: Vec4, guard: &GuardBand) -> u8 {
     if !p.is_finite() {
@@ -88,9 +89,9 @@ fn outcode_by_floats(p: Vec4, guard: &GuardBand) -> u8 {
     let [x, y, z, w] = p.to_array();
     let view = [z < -w, w < z, x < -w, w < x, y < -w, w < y];
     let outside = view.iter().enumerate().fold(0, |code, (k, &out)| code | u8::from(out) << k);
-    let (gx, gy) = (guard.gx * w, guard.gy * w);
-    let inside = z >= -w && w >= z && x >= -gx && gx >= x && y >= -gy && gy >= y;
-    outside | if inside { 0 } else { NEEDS_CLIP }
+    // Finite operands (and products that may overflow, but not to NaN): `a >= b` is `!(a < b)`.
+    let clip = view[0] || view[1] || x.abs() > guard.gx * w || y.abs() > guard.gy * w;
+    outside | if clip { NEEDS_CLIP } else { 0 }
 }
 
 /// [`outcode`] for targets without an FPU: the same bits with integer comparisons of

@@ -36,7 +36,7 @@ pub use clip::{clip_triangle, ClipResult, ClipVertex, GuardBand, Polygon};
 pub use varyings::{MAX_VARYINGS, VARYING_FRAC};
 
 use crate::camera::Camera;
-use crate::format::{Arrays, Material, Mesh, Model};
+use crate::format::{Arrays, Material, Mesh, Model, SubMesh};
 use crate::light::{FixedLights, Lights, PixelLights, PreparedLights};
 use crate::math::{normal_matrix, FixedTransform, Mat3, Mat4, Vec3};
 use crate::target::{Band, DepthBuffer, FrameColor, GUARD_HALF_EXTENT};
@@ -329,6 +329,8 @@ pub(crate) struct Context<'l, const L: usize> {
     pub(crate) guard: GuardBand,
     pub(crate) window: Window,
     pub(crate) half: (f32, f32),
+    /// The frame's height in pixels.
+    pub(crate) height: u16,
 }
 
 impl<'l, const L: usize> Context<'l, L> {
@@ -356,6 +358,7 @@ impl<'l, const L: usize> Context<'l, L> {
                 row_end: band.first_row as i32 + band.rows as i32,
             },
             half: (w * 0.5, h * 0.5),
+            height: band.height,
         }
     }
 
@@ -385,6 +388,8 @@ pub(crate) struct DrawSetup<'a> {
     /// Gouraud vertex light in integers, with [`RenderOptions::fixed_vertices`] when the lights
     /// allow it (see [`PreparedLights::fixed`]).
     pub(crate) fixed_lights: Option<FixedLights<MAX_FIXED_LIGHTS>>,
+    /// The draw's filled vertex cache, when it has one (see `vertex::fill_cache`).
+    pub(crate) vertices: Option<&'a [TransformedVertex]>,
 }
 
 /// The most lights the fixed-point vertex path evaluates in integers (more: in f32).
@@ -417,6 +422,7 @@ impl<'a> DrawSetup<'a> {
             uv: mesh.uv_transform(),
             arrays,
             mesh,
+            vertices: None,
         }
     }
 }
@@ -427,7 +433,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     model: &Model<'_>,
     mesh: &Mesh<'_>,
     world: Mat4,
-    (mut rows, mut vertices): (Option<&mut [TriangleRows]>, Option<&mut [TransformedVertex]>),
+    (mut rows, vertices): (Option<&mut [TriangleRows]>, Option<&mut [TransformedVertex]>),
 ) -> Stats {
     let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
     if !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
@@ -437,14 +443,20 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         }
         return stats;
     }
-    let setup = DrawSetup::new(band, ctx, *mesh, world);
+    let mut setup = DrawSetup::new(band, ctx, *mesh, world);
+    // The cache holds one set of texel coordinates, and nothing Phong needs.
+    let scale = uniform_texel_scale(ctx, model, mesh).filter(|_| ctx.opts.shading != Shading::Phong);
+    if let (Some(cache), Some(scale)) = (vertices, scale) {
+        vertex::fill_cache(ctx, &setup, cache, scale);
+        setup.vertices = Some(cache);
+    }
     for sub in mesh.submeshes() {
-        let material = sub.material.and_then(|m| model.material(m)).unwrap_or_default();
+        let material = material_of(model, &sub);
         let sampler = ctx.sampler(model, mesh, &material);
         let surface = Surface { material: &material, sampler: sampler.as_ref(), flip: setup.flip };
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
         let mut draw =
-            |t: u32, stats: &mut Stats| draw_triangle(band, ctx, &setup, (t, vertices.as_deref_mut()), &surface, stats);
+            |t: u32, stats: &mut Stats| draw_triangle(band, ctx, &setup, t, &surface, stats);
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
             Some(seen) => {
                 let (start, end) = (ctx.window.row_start, ctx.window.row_end);
@@ -465,6 +477,22 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         }
     }
     stats
+}
+
+/// The material sub-mesh `sub` draws with (the default one when it has none).
+fn material_of(model: &Model<'_>, sub: &SubMesh) -> Material {
+    sub.material.and_then(|m| model.material(m)).unwrap_or_default()
+}
+
+/// The texel scale ([`texel_scale`](vertex::texel_scale)) all of `mesh`'s sub-meshes draw with,
+/// `None` when they differ.
+fn uniform_texel_scale<const L: usize>(ctx: &Context<'_, L>, model: &Model<'_>, mesh: &Mesh<'_>) -> Option<(f32, f32)> {
+    let mut scales = mesh.submeshes().map(|sub| {
+        let material = material_of(model, &sub);
+        vertex::texel_scale(ctx.sampler(model, mesh, &material).as_ref())
+    });
+    let first = scales.next().unwrap_or((0.0, 0.0));
+    scales.all(|s| s == first).then_some(first)
 }
 
 /// Every draw of `model`, with the scratch's rows and vertices for each mesh when they fit.

@@ -3,15 +3,15 @@
 //! triangles, and hand each to the fill (`fragment`) or to the wireframe and points (`line`).
 //! It does not transform or light vertices (`vertex` does) or walk pixels (`raster` does).
 
-use super::clip::{classify, cut, finite_varyings, ClipResult, ClipVertex, Polygon, MAX_CLIPPED};
+use super::clip::{classify, cut, finite_varyings, ClipResult, ClipVertex, Polygon, MAX_CLIPPED, NEEDS_CLIP};
 use super::fragment::fill;
 use super::line::{line, plot};
 use super::raster::{facing, facing_of, Reject, ScreenVertex};
 use super::scratch::{TransformedVertex, TriangleRows};
 use super::varyings::{PixelLit, VertexLit};
 use super::vertex::{
-    cached_corners, clip_position, corner_lights, project, texel, texel_scale, vertex_lit_screen, vertex_varyings,
-    Projected,
+    cached_corners, clip_position, coloured_light, corner_lights, flat_corner_lights, project, projected, texel,
+    texel_scale, vertex_lit_screen, vertex_varyings, Projected,
 };
 use super::{Context, DrawSetup, Mode, Shading, Stats};
 use crate::format::Material;
@@ -34,94 +34,132 @@ pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
-    (t, vertices): (u32, Option<&mut [TransformedVertex]>),
+    t: u32,
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {
-    // Filled in place by the front end: 144 bytes not copied out of it.
-    let mut screen = Screen::new();
-    match front_end(ctx, s, (t, vertices), surface, (band.height, &mut screen), stats) {
+    match front_end(ctx, s, t, surface, stats) {
         Front::Done(rows) => rows,
         // The common case, straight to the fill: a filled triangle whose facing and rows the
         // front end found (what `draw_polygon` would do with them, without its other cases).
-        Front::Inside((Some(area), Some(rows))) if ctx.opts.mode == Mode::Solid => {
-            if let Ok(tri) = <&[ScreenVertex; 3]>::try_from(screen.as_slice()) {
-                fill(band, ctx, tri, Some(area), surface, stats);
-            }
+        Front::Inside(tri, (Some(area), Some(rows))) if ctx.opts.mode == Mode::Solid => {
+            fill(band, ctx, &tri, Some(area), surface, stats);
             rows
         }
-        Front::Inside(known) => draw_polygon(band, ctx, &screen, known, surface, stats),
+        Front::Inside(tri, known) => draw_polygon(band, ctx, &tri, known, surface, stats),
         Front::Clipped(tri) => draw_clipped(band, ctx, &tri, surface, stats),
     }
 }
-
-/// The screen vertices of an unclipped triangle.
-type Screen = heapless::Vec<ScreenVertex, 3>;
 
 /// What the per-triangle front end leaves to draw.
 enum Front {
     /// Nothing to draw in this band; the rows it can touch (for [`Scratch`](super::Scratch)).
     Done(TriangleRows),
-    /// Projected into the [`Screen`], wholly inside the clipping planes, with what [`facing`]
-    /// and [`TriangleRows::of`] said when known.
-    Inside((Option<i64>, Option<TriangleRows>)),
+    /// Projected, wholly inside the clipping planes, with what [`facing`] and
+    /// [`TriangleRows::of`] said when known.
+    Inside([ScreenVertex; 3], (Option<i64>, Option<TriangleRows>)),
     /// Crosses a clipping plane: cut it first.
     Clipped([ClipVertex; 3]),
 }
 
-/// Fetch, transform, cull, light and classify triangle `t`; an unclipped one is projected into
-/// `screen`. Not inlined: its temporaries leave the stack before the rasterizer runs.
+/// Fetch, cull, light and classify triangle `t`: from the vertex cache when its corners are
+/// there and need nothing more (the common case), else transformed here ([`full_varyings`]).
+/// Not inlined: its temporaries leave the stack before the rasterizer runs.
 #[inline(never)]
 fn front_end<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
-    (t, vertices): (u32, Option<&mut [TransformedVertex]>),
+    t: u32,
     surface: &Surface<'_, '_>,
-    (height, screen): (u16, &mut Screen),
     stats: &mut Stats,
 ) -> Front {
     let idx = s.arrays.triangle(t);
-    // Without a cache (or for an index beyond it), the corners are transformed here and lit
-    // later, once the triangle is known to be drawn.
-    let fresh;
-    let (p, lit) = match vertices.and_then(|cache| cached_corners(ctx, s, cache, &idx)) {
-        Some(p) => (p, true),
-        None => {
-            fresh = idx.map(|i| TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), [0; 4]));
-            (fresh.each_ref(), false)
-        }
+    // Cached corners whose triangle needs no clipping; else fresh ones.
+    let corners = match s.vertices.and_then(|cache| cached_corners(cache, &idx)) {
+        Some(p) if (p[0].outcode | p[1].outcode | p[2].outcode) & NEEDS_CLIP == 0 => Ok(p),
+        _ => Err(idx.map(|i| projected(ctx, s, i))),
     };
-    let class = classify(p.map(|p| p.outcode));
+    let (xyw, codes) = match &corners {
+        Ok(p) => (p.map(|p| (i32::from(p.xy[0]), i32::from(p.xy[1]), p.inv_w)), p.map(|p| p.outcode)),
+        Err(p) => (p.map(|p| (p.x, p.y, p.inv_w)), p.map(|p| p.outcode)),
+    };
+    let class = classify(codes);
     if class == ClipResult::Outside {
         stats.culled_frustum += 1;
         return Front::Done(TriangleRows::EMPTY);
     }
-    // Back faces are rejected before any lighting when the triangle is wholly in front of the
-    // eye: projection keeps the winding, and the snapped positions are the ones the rasterizer
-    // gets below, so the decision is the same one it would make.
-    let (mut area, mut known_rows) = (None, None);
-    if p.iter().all(|p| crate::math::is_positive_finite(p.inv_w)) {
-        match facing_of(p.map(|p| (p.xy[0], p.xy[1], p.inv_w)), surface.material.cull_back_faces, surface.flip) {
-            Err(Reject::BackFace) => {
-                stats.culled_back_face += 1;
-                return Front::Done(TriangleRows::EMPTY);
-            }
-            // Kept for the rasterizer if the triangle is drawn unclipped (same positions).
-            Ok(a) => area = Some(a),
-            Err(_) => {}
+    let mut known = (None, None);
+    if w_ok(xyw.map(|p| p.2)) {
+        match cull(ctx, xyw, surface, stats) {
+            Ok((area, rows)) => known = (area, Some(rows)),
+            Err(rows) => return Front::Done(rows),
         }
-        // Rows of the unclipped triangle: a superset of what clipping leaves. A triangle that
-        // cannot touch this band is not lit, clipped or set up here (a row cache learns its
-        // rows for the later bands).
-        let ys = p.map(|p| p.xy[1]);
-        let rows = TriangleRows::of_ys(ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]), height);
-        if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
-            stats.outside_band += 1;
-            return Front::Done(rows);
-        }
-        known_rows = Some(rows);
     }
-    let lights = lit.then(|| p.map(TransformedVertex::vertex_light));
+    match corners {
+        Ok(p) => {
+            let light = match ctx.opts.shading {
+                Shading::Flat => flat_corner_lights(ctx, s, &idx),
+                _ => p.map(TransformedVertex::light),
+            };
+            Front::Inside(core::array::from_fn(|k| p[k].screen_vertex(light[k])), known)
+        }
+        Err(p) => full_varyings(ctx, s, (&idx, &p, class), known, surface, stats),
+    }
+}
+
+/// Whether every corner's `1/w` is positive and finite: the triangle is wholly in front of the
+/// eye, and its projected positions mean something.
+#[inline(always)]
+fn w_ok(inv_w: [f32; 3]) -> bool {
+    inv_w.iter().all(|&w| crate::math::is_positive_finite(w))
+}
+
+/// The back-face and band tests of a triangle wholly in front of the eye, whose corners'
+/// snapped positions and `1/w` are `xyw`: its area (when the rasterizer will take it) and
+/// rows, or the rows to return when it is done here. Back faces are rejected before any
+/// lighting: projection keeps the winding, and the snapped positions are the ones the
+/// rasterizer gets, so the decision is the same one it would make.
+#[inline(always)]
+fn cull<const L: usize>(
+    ctx: &Context<'_, L>,
+    xyw: [(i32, i32, f32); 3],
+    surface: &Surface<'_, '_>,
+    stats: &mut Stats,
+) -> Result<(Option<i64>, TriangleRows), TriangleRows> {
+    let area = match facing_of(xyw, surface.material.cull_back_faces, surface.flip) {
+        Err(Reject::BackFace) => {
+            stats.culled_back_face += 1;
+            return Err(TriangleRows::EMPTY);
+        }
+        // Kept for the rasterizer if the triangle is drawn unclipped (same positions).
+        Ok(a) => Some(a),
+        Err(_) => None,
+    };
+    // Rows of the unclipped triangle: a superset of what clipping leaves. A triangle that
+    // cannot touch this band is not lit, clipped or set up here (a row cache learns its rows
+    // for the later bands).
+    let ys = xyw.map(|p| p.1);
+    let rows = TriangleRows::of_ys(ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]), ctx.height);
+    if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
+        stats.outside_band += 1;
+        return Err(rows);
+    }
+    Ok((area, rows))
+}
+
+/// The rest of [`front_end`] for triangles drawn without the vertex cache: corners `idx`
+/// projected to `p` and classified as `class`, whose facing and rows are `known` when found.
+/// Lights the corners and builds their varyings; a triangle that needs clipping is left to
+/// [`draw_clipped`]. Not inlined: the common, cached path keeps a small stack frame.
+#[inline(never)]
+fn full_varyings<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    (idx, p, class): (&[u32; 3], &[Projected; 3], ClipResult),
+    known: (Option<i64>, Option<TriangleRows>),
+    surface: &Surface<'_, '_>,
+    stats: &mut Stats,
+) -> Front {
     let scale = texel_scale(surface.sampler);
     let phong = ctx.opts.shading == Shading::Phong;
     if class == ClipResult::Inside && !phong {
@@ -132,14 +170,13 @@ fn front_end<const L: usize>(
             stats.culled_frustum += 1;
             return Front::Done(TriangleRows::EMPTY);
         }
-        let light = corner_lights(ctx, s, &idx, lights);
-        for k in 0..3 {
-            let varyings = vertex_lit_screen(texels[k], light[k], s.arrays.color(idx[k]));
-            let _ = screen.push(p[k].screen_vertex(varyings));
-        }
-        return Front::Inside((area, known_rows));
+        let light = corner_lights(ctx, s, idx);
+        let tri = core::array::from_fn(|k| {
+            p[k].screen_vertex(vertex_lit_screen(texels[k], coloured_light(s, idx[k], light[k])))
+        });
+        return Front::Inside(tri, known);
     }
-    let varyings = vertex_varyings(ctx, s, &idx, lights, scale);
+    let varyings = vertex_varyings(ctx, s, idx, scale);
     let maybe_not_finite = if phong { PixelLit::LEN } else { VertexLit::LIGHT };
     if !finite_varyings(&varyings, maybe_not_finite) {
         stats.culled_frustum += 1;
@@ -147,10 +184,8 @@ fn front_end<const L: usize>(
     }
     if class == ClipResult::Inside {
         // Saturating casts: huge UVs clamp instead of wrapping.
-        for k in 0..3 {
-            let _ = screen.push(p[k].screen_vertex(varyings[k].map(crate::math::to_i32)));
-        }
-        return Front::Inside((area, known_rows));
+        let tri = core::array::from_fn(|k| p[k].screen_vertex(varyings[k].map(crate::math::to_i32)));
+        return Front::Inside(tri, known);
     }
     Front::Clipped(core::array::from_fn(|k| ClipVertex { pos: clip_position(s, idx[k]), varyings: varyings[k] }))
 }

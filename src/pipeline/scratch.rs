@@ -5,18 +5,19 @@
 
 use core::ops::Range;
 
-use super::varyings::ScreenVaryings;
-use super::vertex::{Projected, VertexLight};
-use crate::fixed::FDot4;
+use super::clip::NEEDS_CLIP;
+use super::vertex::{vertex_lit_varyings, Projected, VertexLight};
+use crate::fixed::{FDot16, FDot4};
 use crate::pipeline::raster::ScreenVertex;
 
 /// Memory the caller lends [`Renderer::draw`](super::Renderer::draw), all of it optional:
 /// - rows ([`Scratch::with_rows`], 4 bytes a triangle counting instances): when a frame is drawn
 ///   in bands, the bands after the first skip the triangles that cannot touch them before any
 ///   vertex work;
-/// - vertices ([`Scratch::with_vertices`], 24 bytes a vertex counting instances, see
+/// - vertices ([`Scratch::with_vertices`], 28 bytes a vertex counting instances, see
 ///   [`Model::draw_counts`](crate::Model::draw_counts)): every vertex is transformed, projected
-///   and lit once a frame, however many triangles and bands share it;
+///   and lit once a frame, however many triangles and bands share it (not for Phong shading, nor
+///   for meshes whose sub-meshes' textures differ in size: they draw without);
 /// - sort entries ([`Scratch::with_sort`], one a triangle): the list
 ///   [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront) sorts.
 ///
@@ -190,20 +191,29 @@ impl TriangleRows {
     }
 }
 
-/// A vertex projected and lit, computed once a frame (see [`Scratch`]): its snapped
-/// position, depth, `1/w`, outcode, light and specular intensity in 24 bytes.
+/// A vertex projected and lit, computed once a frame (see [`Scratch`]): everything an unclipped
+/// triangle needs of its corner, in the form the rasterizer takes it, in 28 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct TransformedVertex {
-    pub(crate) xy: [i32; 2],
+    /// Snapped screen position (28.4), when [`Self::outcode`] has no `NEEDS_CLIP`.
+    pub(crate) xy: [i16; 2],
     pub(crate) z: f32,
     pub(crate) inv_w: f32,
+    /// Texel coordinates (16.16 texels, see `vertex::texel`), when the outcode has no
+    /// `NEEDS_CLIP`.
+    pub(crate) texel: [FDot16; 2],
+    /// Light varyings: red, green and blue light times the vertex colour (see
+    /// `vertex::coloured_light`).
     pub(crate) light: [u16; 3],
     /// [`VertexLight`]'s specular / 257.
     specular: u8,
+    /// The position's [`outcode`](super::clip::outcode), plus `NEEDS_CLIP` where the position
+    /// or texel coordinates do not fit the fields above: a triangle with such a corner takes
+    /// the full path (which clips when it must).
     pub(crate) outcode: u8,
 }
 
-const _: () = assert!(core::mem::size_of::<TransformedVertex>() == 24);
+const _: () = assert!(core::mem::size_of::<TransformedVertex>() == 28);
 
 impl Default for TransformedVertex {
     fn default() -> Self {
@@ -212,8 +222,7 @@ impl Default for TransformedVertex {
 }
 
 /// The `1/w` of a vertex not transformed yet this frame: +0, so that the empty cache is all zero
-/// bytes (`.bss`, not flash). A vertex whose `1/w` really is +0 (an infinite `w`) is simply
-/// transformed again at each use, with the same result.
+/// bytes (`.bss`, not flash).
 pub(crate) const UNKNOWN_INV_W: u32 = 0;
 
 impl TransformedVertex {
@@ -222,23 +231,45 @@ impl TransformedVertex {
         xy: [0; 2],
         z: 0.0,
         inv_w: f32::from_bits(UNKNOWN_INV_W),
+        texel: [0; 2],
         light: [0; 3],
         specular: 0,
         outcode: 0,
     };
 
-    pub(crate) fn new(p: Projected, [r, g, b, specular]: VertexLight) -> Self {
-        let (xy, z, inv_w, outcode) = ([p.x, p.y], p.z, p.inv_w, p.outcode);
-        TransformedVertex { xy, z, inv_w, light: [r, g, b], specular: (specular / 257) as u8, outcode }
-    }
-
-    /// This vertex on the screen, carrying `varyings`.
+    /// The entry of a vertex projected to `p` with texel coordinates `texel` (f32, see
+    /// `vertex::texel`), not lit yet ([`Self::set_light`]).
     #[inline(always)]
-    pub(crate) fn screen_vertex(&self, varyings: ScreenVaryings) -> ScreenVertex {
-        ScreenVertex { x: self.xy[0], y: self.xy[1], z: self.z, inv_w: self.inv_w, varyings }
+    pub(crate) fn new(p: Projected, texel: [f32; 2]) -> Self {
+        let xy = (i16::try_from(p.x), i16::try_from(p.y));
+        let fits = xy.0.is_ok() && xy.1.is_ok() && texel.iter().all(|t| t.is_finite());
+        TransformedVertex {
+            xy: [xy.0.unwrap_or(0), xy.1.unwrap_or(0)],
+            z: p.z,
+            inv_w: p.inv_w,
+            texel: texel.map(crate::math::to_i32),
+            light: [0; 3],
+            specular: 0,
+            outcode: p.outcode | if fits { 0 } else { NEEDS_CLIP },
+        }
     }
 
-    pub(crate) fn vertex_light(&self) -> VertexLight {
+    /// Sets its light varyings.
+    #[inline(always)]
+    pub(crate) fn set_light(&mut self, [r, g, b, specular]: VertexLight) {
+        (self.light, self.specular) = ([r, g, b], (specular / 257) as u8);
+    }
+
+    /// This vertex on the screen with its texel coordinates and the light varyings `light`.
+    #[inline(always)]
+    pub(crate) fn screen_vertex(&self, light: VertexLight) -> ScreenVertex {
+        let (x, y) = (i32::from(self.xy[0]), i32::from(self.xy[1]));
+        ScreenVertex { x, y, z: self.z, inv_w: self.inv_w, varyings: vertex_lit_varyings(self.texel, light) }
+    }
+
+    /// Its light varyings, with the specular intensity (a multiple of 257).
+    #[inline(always)]
+    pub(crate) fn light(&self) -> VertexLight {
         let [r, g, b] = self.light;
         [r, g, b, self.specular as u16 * 257]
     }

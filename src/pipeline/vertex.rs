@@ -9,7 +9,7 @@ use super::raster::ScreenVertex;
 use super::scratch::{TransformedVertex, UNKNOWN_INV_W};
 use super::varyings::{ClipVaryings, PixelLit, ScreenVaryings, VertexLit, MAX_VARYINGS};
 use super::{Context, DrawSetup, Shading};
-use crate::fixed::{fdot4_floor, FDot4, FDOT16_ONE};
+use crate::fixed::{fdot4_floor, FDot16, FDot4, FDOT16_ONE};
 use crate::math::{normalize_or_zero, Vec3, Vec4};
 use crate::texture::Sampler;
 
@@ -19,7 +19,10 @@ use crate::texture::Sampler;
 /// highlight colour.
 pub(crate) type VertexLight = [u16; 4];
 
-/// Quantizes light values in 0..=1 (red, green, blue, specular) to [`VertexLight`].
+/// Quantizes light values in 0..=1 (red, green, blue, specular) to [`VertexLight`]. Light
+/// outside 0..=1 (or NaN) quantizes as if clamped to it first: to 0 or 65535, as the rounding
+/// `x · 65536 + 0.5` is monotonic and the integer clamp takes what it gives below 0 or above
+/// 65535 (NaN converts to 0).
 pub(crate) fn quantize_light([r, g, b, specular]: [f32; 4]) -> VertexLight {
     // Saturating, as `as u16` would, in integer code without an FPU.
     let [r, g, b] = [r, g, b].map(|x| crate::math::to_i32(x * FDOT16_ONE + 0.5).clamp(0, 0xffff) as u16);
@@ -43,9 +46,16 @@ impl Projected {
         let xy = project_xy(clip, ctx.half);
         Projected { x: xy.x, y: xy.y, z: depth(clip, xy.inv_w), inv_w: xy.inv_w, outcode: outcode(clip, &ctx.guard) }
     }
+
+    /// This vertex on the screen, carrying `varyings`.
+    #[inline(always)]
+    pub(crate) fn screen_vertex(&self, varyings: ScreenVaryings) -> ScreenVertex {
+        ScreenVertex { x: self.x, y: self.y, z: self.z, inv_w: self.inv_w, varyings }
+    }
 }
 
 /// Vertex `i` in clip space.
+#[inline(always)]
 pub(crate) fn clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
     match &s.fixed {
         Some((t, sphere)) => t.apply(s.arrays.position_int(i, *sphere)),
@@ -59,6 +69,7 @@ pub(crate) fn world_position(s: &DrawSetup<'_>, i: u32) -> Vec3 {
 }
 
 /// Vertex `i`'s world-space unit normal.
+#[inline(always)]
 pub(crate) fn world_normal(s: &DrawSetup<'_>, i: u32) -> Vec3 {
     let n = s.normals * s.arrays.normal(i);
     if s.rotation {
@@ -69,6 +80,7 @@ pub(crate) fn world_normal(s: &DrawSetup<'_>, i: u32) -> Vec3 {
 }
 
 /// Gouraud light of vertex `i` (zero for the other shadings, which do not use it).
+#[inline(always)]
 pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
     if ctx.opts.shading != Shading::Gouraud {
         return [0; 4];
@@ -80,50 +92,116 @@ pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'
     let n = world_normal(s, i);
     // Directional and hemispheric light need no position.
     let p = if ctx.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
-    let l = ctx.vertex_lights.at(p, n);
-    quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(p, n, ctx.eye)])
+    // Clamped by the quantization.
+    let l = ctx.vertex_lights.unclamped_at(p, n);
+    quantize_light([l.x, l.y, l.z, specular(ctx, p, n)])
 }
 
-/// The corners `idx` in the frame's cache, each transformed and lit on first use (`None` when
-/// one is beyond the cache). All three or none: a cached corner's specular is rounded to 8 bits,
-/// so a triangle mixing cached and fresh corners would light differently. Mixing cannot happen
-/// today (`Model::parse` refuses indices beyond the vertices, and a draw gets its mesh's whole
-/// cache or none), but keep it so if either changes.
+/// [`Lights::specular_at`](crate::light::Lights::specular_at), skipped (0) without specular.
 #[inline(always)]
-pub(crate) fn cached_corners<'c, const L: usize>(
+fn specular<const L: usize>(ctx: &Context<'_, L>, p: Vec3, n: Vec3) -> f32 {
+    // Without point lights or specular, specular is off: what `specular_at` would find.
+    if ctx.lit_by_position {
+        ctx.lights.specular_at(p, n, ctx.eye)
+    } else {
+        0.0
+    }
+}
+
+/// The light of unlit corners (and of Phong's, which light per pixel instead): full white.
+const WHITE: VertexLight = [u16::MAX, u16::MAX, u16::MAX, 0];
+
+/// The light varyings of vertex `i`'s cache entry: the corner light of the shadings that light
+/// per vertex or not at all (zero for flat and Phong, which light otherwise), times its colour.
+#[inline(always)]
+fn cached_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
+    let light = if ctx.opts.shading == Shading::Unlit { WHITE } else { vertex_light(ctx, s, i) };
+    coloured_light(s, i, light)
+}
+
+/// Vertex `i` transformed and projected, not lit: for triangles drawn without the vertex cache.
+/// Not inlined: it runs for the rare triangles that need clipping, and for draws without a
+/// cache.
+#[inline(never)]
+pub(crate) fn projected<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> Projected {
+    Projected::new(ctx, clip_position(s, i))
+}
+
+/// The Gouraud light of corners `idx` (see [`vertex_light`]). Not inlined, as [`projected`].
+#[inline(never)]
+fn vertex_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u32; 3]) -> [VertexLight; 3] {
+    idx.map(|i| vertex_light(ctx, s, i))
+}
+
+/// Fills a draw's vertex cache, every vertex transformed, projected and lit with texel
+/// coordinates for the texel scale `scale` ([`texel_scale`]), unless this frame already did
+/// (its first vertex is known). All at once rather than on first use: the loops keep the
+/// matrices and lights at hand (positions in one, light in another, so that each has registers
+/// enough), and a triangle's corners are then plain loads. A first vertex whose `1/w` really
+/// is +0 only makes every band fill it again, with the same results. Not inlined: its frame is
+/// gone before the triangles are drawn (the deepest stack).
+#[inline(never)]
+pub(crate) fn fill_cache<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
-    cache: &'c mut [TransformedVertex],
-    idx: &[u32; 3],
-) -> Option<[&'c TransformedVertex; 3]> {
-    if idx.iter().any(|&i| i as usize >= cache.len()) {
-        return None;
+    cache: &mut [TransformedVertex],
+    scale: (f32, f32),
+) {
+    if cache.first().is_some_and(|v| v.inv_w.to_bits() != UNKNOWN_INV_W) {
+        return;
     }
-    for &i in idx {
-        let v = &mut cache[i as usize];
-        if v.inv_w.to_bits() == UNKNOWN_INV_W {
-            *v = TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), vertex_light(ctx, s, i));
-        }
+    for (i, v) in (0u32..).zip(cache.iter_mut()) {
+        *v = TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), texel(s, i, scale));
     }
-    let cache = &*cache;
-    Some(idx.map(|i| &cache[i as usize]))
+    for (i, v) in (0u32..).zip(cache.iter_mut()) {
+        v.set_light(cached_light(ctx, s, i));
+    }
+}
+
+/// The corners `idx` in a filled cache (see [`fill_cache`]); `None` when one is beyond it (a
+/// draw gets its mesh's whole cache or none, and `Model::parse` refuses indices beyond the
+/// vertices, so only if either changes).
+#[inline(always)]
+pub(crate) fn cached_corners<'c>(cache: &'c [TransformedVertex], idx: &[u32; 3]) -> Option<[&'c TransformedVertex; 3]> {
+    let [a, b, c] = idx.map(|i| cache.get(i as usize));
+    Some([a?, b?, c?])
+}
+
+/// `light` times vertex `i`'s colour, as the varyings carry it: red, green and blue scaled (see
+/// [`coloured_fixed`]), specular as is.
+#[inline(always)]
+pub(crate) fn coloured_light(s: &DrawSetup<'_>, i: u32, light: VertexLight) -> VertexLight {
+    if !s.arrays.has_colors() {
+        return light;
+    }
+    let c = s.arrays.color(i);
+    // At most the light itself (a colour channel is at most 1): within u16.
+    let [r, g, b] = [0, 1, 2].map(|ch| coloured_fixed(light[ch], c[ch]) as u16);
+    [r, g, b, light[3]]
 }
 
 /// The light (and specular) of each corner for the vertex-lit shadings: per vertex (Gouraud),
-/// per face (flat) or full white (unlit, and Phong, which lights per pixel instead).
-/// `gouraud`: the vertices' [`vertex_light`]s when already known.
+/// per face (flat) or full white (unlit, and Phong, which lights per pixel instead); not
+/// yet times the vertex colours.
 #[inline(always)]
-pub(crate) fn corner_lights<const L: usize>(
+pub(crate) fn corner_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u32; 3]) -> [VertexLight; 3] {
+    match ctx.opts.shading {
+        Shading::Unlit | Shading::Phong => [WHITE; 3],
+        Shading::Flat => [face_light(ctx, s, idx); 3],
+        Shading::Gouraud => vertex_lights(ctx, s, idx),
+    }
+}
+
+/// The light varyings of flat-lit triangle `idx`'s corners: its face light times each
+/// corner's colour.
+#[inline(always)]
+pub(crate) fn flat_corner_lights<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     idx: &[u32; 3],
-    gouraud: Option<[VertexLight; 3]>,
 ) -> [VertexLight; 3] {
-    match ctx.opts.shading {
-        Shading::Unlit | Shading::Phong => [[u16::MAX, u16::MAX, u16::MAX, 0]; 3],
-        Shading::Flat => [face_light(ctx, s, idx); 3],
-        Shading::Gouraud => gouraud.unwrap_or_else(|| idx.map(|i| vertex_light(ctx, s, i))),
-    }
+    let light = face_light(ctx, s, idx);
+    idx.map(|i| coloured_light(s, i, light))
 }
 
 /// The flat light of triangle `idx`. Not inlined: the common (Gouraud) path stays small.
@@ -138,8 +216,9 @@ fn face_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u3
         n = -n;
     }
     let centre = (p[0] + p[1] + p[2]) / 3.0;
-    let l = ctx.vertex_lights.at(centre, n);
-    quantize_light([l.x, l.y, l.z, ctx.lights.specular_at(centre, n, ctx.eye)])
+    // Clamped by the quantization.
+    let l = ctx.vertex_lights.unclamped_at(centre, n);
+    quantize_light([l.x, l.y, l.z, specular(ctx, centre, n)])
 }
 
 /// The size of `sampler`'s texture in [`FDot16`](crate::fixed::FDot16) texels (zero without
@@ -167,7 +246,8 @@ fn coloured(light: u16, c: u8) -> f32 {
 }
 
 /// [`coloured`] converted to fixed point: for white, the light itself, which is what the float
-/// product converts to (a 16-bit integer is exact in f32), without float operations.
+/// product converts to (a 16-bit integer is exact in f32), without float operations (as for
+/// meshes without vertex colours, which are white).
 #[inline(always)]
 fn coloured_fixed(light: u16, c: u8) -> i32 {
     if c == 255 {
@@ -178,31 +258,36 @@ fn coloured_fixed(light: u16, c: u8) -> i32 {
 }
 
 /// The varyings of an unclipped, vertex-lit corner, converted as [`project`] converts them:
-/// texel coordinates (saturating), light, specular; the slots no vertex-lit variant reads
-/// stay zero. `texel`: the corner's [`texel`], already checked finite.
+/// texel coordinates (saturating), light varyings ([`coloured_light`]), specular; the slots no
+/// vertex-lit variant reads stay zero. `texel`: the corner's [`texel`], already checked finite.
 #[inline(always)]
-pub(crate) fn vertex_lit_screen(texel: [f32; 2], light: VertexLight, color: [u8; 4]) -> ScreenVaryings {
+pub(crate) fn vertex_lit_screen(texel: [f32; 2], light: VertexLight) -> ScreenVaryings {
+    vertex_lit_varyings(texel.map(crate::math::to_i32), light)
+}
+
+/// The varyings of a vertex-lit corner from its texel coordinates (16.16) and light varyings.
+#[inline(always)]
+pub(crate) fn vertex_lit_varyings(texel: [FDot16; 2], light: VertexLight) -> ScreenVaryings {
     let mut v = [0; MAX_VARYINGS];
-    v[VertexLit::U] = crate::math::to_i32(texel[0]);
-    v[VertexLit::V] = crate::math::to_i32(texel[1]);
+    v[VertexLit::U] = texel[0];
+    v[VertexLit::V] = texel[1];
     for ch in 0..3 {
-        v[VertexLit::LIGHT + ch] = coloured_fixed(light[ch], color[ch]);
+        v[VertexLit::LIGHT + ch] = i32::from(light[ch]);
     }
     v[VertexLit::SPECULAR] = i32::from(light[3]);
     v
 }
 
 /// The triangle's varyings for the shading mode (see the slot constants), in f32 for clipping.
-/// `gouraud`: the vertices' [`vertex_light`]s when already known; `scale`: [`texel_scale`].
+/// `scale`: [`texel_scale`].
 pub(crate) fn vertex_varyings<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     idx: &[u32; 3],
-    gouraud: Option<[VertexLight; 3]>,
     scale: (f32, f32),
 ) -> [ClipVaryings; 3] {
     let phong = ctx.opts.shading == Shading::Phong;
-    let lit = if phong { [[0; 4]; 3] } else { corner_lights(ctx, s, idx, gouraud) };
+    let lit = if phong { [[0; 4]; 3] } else { corner_lights(ctx, s, idx) };
     core::array::from_fn(|k| {
         let mut varyings = [0.0; MAX_VARYINGS];
         varyings[VertexLit::U..=VertexLit::V].copy_from_slice(&texel(s, idx[k], scale));
@@ -242,4 +327,21 @@ pub(crate) fn project_xy(pos: Vec4, (hw, hh): (f32, f32)) -> ScreenVertex {
     let y = (1.0 - pos.y * inv_w) * hh;
     let snap = fdot4_floor;
     ScreenVertex { x: snap(x), y: snap(y), z: 0.0, inv_w, varyings: [0; MAX_VARYINGS] }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Light is quantized as if clamped to 0..=1 first, so the light sums need no clamp.
+    #[test]
+    fn quantizing_clamps_light() {
+        let special = [0.0, -0.0, 1.0, -1.0, 0.5, 1.0 + f32::EPSILON, -f32::MIN_POSITIVE, f32::MAX, f32::MIN];
+        let specials = special.into_iter().chain([f32::INFINITY, f32::NEG_INFINITY, f32::NAN]);
+        let steps = (0..=40_000).map(|k| k as f32 / 10_000.0 - 2.0);
+        for x in specials.chain(steps).chain((0..=65_536).map(|k| k as f32 / 65_536.0 + 1.0 / 131_072.0)) {
+            let c = crate::math::clamp01(x);
+            assert_eq!(quantize_light([x, x, x, 0.0]), quantize_light([c, c, c, 0.0]), "{x}");
+        }
+    }
 }

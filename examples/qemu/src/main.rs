@@ -55,7 +55,7 @@ const BAND_PIXELS: usize = WIDTH as usize * BAND_ROWS;
 const _: () = assert!(BAND_ROWS * BANDS == HEIGHT as usize, "BANDS must divide HEIGHT");
 /// Triangles of the Suzanne model (one row-cache entry each).
 const TRIANGLES: usize = 966;
-/// Vertices of the Suzanne model (one transformed-vertex entry each, 24 bytes).
+/// Vertices of the Suzanne model (one transformed-vertex entry each, 28 bytes).
 const VERTICES: usize = 886;
 /// Frames rendered; the image file and the statistics are those of the last one.
 const FRAMES: u32 = if cfg!(feature = "two-frames") { 2 } else { 1 };
