@@ -6,7 +6,7 @@
 use super::clip::{classify, cut, finite_varyings, ClipResult, ClipVertex, Polygon, MAX_CLIPPED, NEEDS_CLIP};
 use super::fragment::fill;
 use super::line::{line, plot};
-use super::raster::{facing, facing_of, Reject, ScreenVertex};
+use super::raster::{facing, facing_in_guard_band, in_guard_band, Reject, ScreenVertex};
 use super::scratch::{TransformedVertex, TriangleRows};
 use super::varyings::{PixelLit, VertexLit};
 use super::vertex::{
@@ -126,7 +126,14 @@ fn cull<const L: usize>(
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> Result<(Option<i64>, TriangleRows), TriangleRows> {
-    let area = match facing_of(xyw, surface.material.cull_back_faces, surface.flip) {
+    // The caller found every `1/w` positive and finite.
+    let xy = xyw.map(|p| (p.0, p.1));
+    let facing = if in_guard_band(xy) {
+        facing_in_guard_band(xy, surface.material.cull_back_faces, surface.flip)
+    } else {
+        Err(Reject::OutsideGuardBand)
+    };
+    let area = match facing {
         Err(Reject::BackFace) => {
             stats.culled_back_face += 1;
             return Err(TriangleRows::EMPTY);

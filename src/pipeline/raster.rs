@@ -167,20 +167,32 @@ pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i6
 
 /// [`facing`] of the vertices' `(x, y, 1/w)`.
 pub(crate) fn facing_of(p: [(i32, i32, f32); 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
-    // Clipping keeps triangles inside the guard band, but float rounding (or a denormal w) can
-    // still push a vertex out; the integer ranges above hold only inside, so refuse the rest.
+    let w_ok = crate::math::is_positive_finite;
+    if !(in_guard_band(p.map(|p| (p.0, p.1))) && p.iter().all(|p| w_ok(p.2))) {
+        return Err(Reject::OutsideGuardBand);
+    }
+    facing_in_guard_band(p.map(|p| (p.0, p.1)), cull_back, flip)
+}
+
+/// Whether the snapped positions `p` lie within the ranges the rasterizer's integers hold for
+/// (see the module's numbers). Clipping keeps triangles inside the guard band, but float
+/// rounding (or a denormal w) can still push a vertex out.
+#[inline(always)]
+pub(crate) fn in_guard_band(p: [(i32, i32); 3]) -> bool {
     let span = |[a, b, c]: [i32; 3]| {
         let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
         // Both within ±2^24, so the difference fits i32.
         lo > -MAX_COORD && hi < MAX_COORD && hi - lo < MAX_EXTENT
     };
+    span(p.map(|p| p.0)) && span(p.map(|p| p.1))
+}
+
+/// [`facing_of`] of positions already known [`in_guard_band`], with positive finite `1/w`s.
+#[inline(always)]
+pub(crate) fn facing_in_guard_band(p: [(i32, i32); 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
+    debug_assert!(in_guard_band(p));
     let [p0, p1, p2] = p;
-    let w_ok = crate::math::is_positive_finite;
-    let inside = span([p0.0, p1.0, p2.0]) && span([p0.1, p1.1, p2.1]);
-    if !(inside && w_ok(p0.2) && w_ok(p1.2) && w_ok(p2.2)) {
-        return Err(Reject::OutsideGuardBand);
-    }
-    // Coordinates are < 2^15 apart (checked above): the products fit i64 easily.
+    // Coordinates are < 2^15 apart (in the guard band): the products fit i64 easily.
     let area = (p1.0 - p0.0) as i64 * (p2.1 - p0.1) as i64 - (p2.0 - p0.0) as i64 * (p1.1 - p0.1) as i64;
     if area == 0 {
         return Err(Reject::Degenerate);

@@ -184,7 +184,11 @@ pub(crate) fn coloured_light(s: &DrawSetup<'_>, i: u32, light: VertexLight) -> V
 /// per face (flat) or full white (unlit, and Phong, which lights per pixel instead); not
 /// yet times the vertex colours.
 #[inline(always)]
-pub(crate) fn corner_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u32; 3]) -> [VertexLight; 3] {
+pub(crate) fn corner_lights<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    idx: &[u32; 3],
+) -> [VertexLight; 3] {
     match ctx.opts.shading {
         Shading::Unlit | Shading::Phong => [WHITE; 3],
         Shading::Flat => [face_light(ctx, s, idx); 3],
