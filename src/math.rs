@@ -340,6 +340,33 @@ pub fn mul_wide(a: i32, q: i32) -> i64 {
     }
 }
 
+/// `z.wrapping_mul(k)` for an `i64` and a small `k` (a pixel or row offset): without an FPU
+/// (Armv6-M: no 64-bit multiply, `__aeabi_lmul` is a call of about 40 instructions) from three
+/// 32-bit products when `|k| < 2^15`, else the plain wrapping multiply.
+#[inline(always)]
+#[must_use]
+pub fn wrapping_mul_small(z: i64, k: i32) -> i64 {
+    #[cfg(soft_float)]
+    {
+        if k.unsigned_abs() < 1 << 15 {
+            return wrapping_mul_halves(z, k);
+        }
+    }
+    z.wrapping_mul(k as i64)
+}
+
+/// [`wrapping_mul_small`] for `|k| < 2^15` from 32-bit products: `z = high·2^32 + low`, so
+/// `z·k = high·k·2^32 + low·k (mod 2^64)`, with `low·k` from `low`'s 16-bit halves (each
+/// product below 2^31 in magnitude).
+#[cfg(any(soft_float, test))]
+#[inline(always)]
+fn wrapping_mul_halves(z: i64, k: i32) -> i64 {
+    debug_assert!(k.unsigned_abs() < 1 << 15);
+    let (high, low) = ((z >> 32) as i32, z as u32);
+    let low_k = ((((low >> 16) as i32 * k) as i64) << 16) + ((low & 0xffff) as i32 * k) as i64;
+    ((high.wrapping_mul(k) as i64) << 32).wrapping_add(low_k)
+}
+
 /// `x · 2^e` for `|e| <= 120`, exact unless the result leaves f32's normal range.
 #[inline]
 #[must_use]
@@ -378,9 +405,24 @@ fn soft_i64_to_f32_scaled(v: i64, e: i32) -> f32 {
 }
 
 /// `v as f32` in integer code: the top 24 significant bits, rounded to nearest, ties to even.
-/// Not inlined: with an FPU it is the rare path of [`i64_to_f32`].
+/// Not inlined: with an FPU it is the rare path of [`i64_to_f32`]. Without one, in 32-bit
+/// halves ([`soft::from_i64`]): the 64-bit leading-zero count and shifts here are library calls
+/// there.
 #[inline(never)]
 fn bits_i64_to_f32(v: i64) -> f32 {
+    #[cfg(soft_float)]
+    {
+        soft::from_i64(v)
+    }
+    #[cfg(not(soft_float))]
+    {
+        bits_i64_to_f32_wide(v)
+    }
+}
+
+/// [`bits_i64_to_f32`] in 64-bit integers.
+#[cfg_attr(soft_float, allow(dead_code))]
+fn bits_i64_to_f32_wide(v: i64) -> f32 {
     if v == 0 {
         return 0.0;
     }
@@ -642,6 +684,25 @@ mod tests {
         }
     }
 
+    /// The 32-bit-product multiply of FPU-less targets wraps like `i64::wrapping_mul`.
+    #[test]
+    fn wrapping_mul_halves_matches_wrapping_mul() {
+        let mut state = 0x0123_4567_89ab_cdefu64;
+        for n in 0..1_000_000u32 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let z = (state as i64) >> (n % 64);
+            let k = (state >> 17) as i32 % (1 << 15);
+            assert_eq!(wrapping_mul_halves(z, k), z.wrapping_mul(k as i64), "{z} * {k}");
+        }
+        for z in [i64::MIN, i64::MAX, -1, 1 << 32, -(1 << 40) + 3] {
+            for k in [0, 1, -1, (1 << 15) - 1, -(1 << 15) + 1] {
+                assert_eq!(wrapping_mul_halves(z, k), z.wrapping_mul(k as i64), "{z} * {k}");
+            }
+        }
+    }
+
     /// The integer `i64 as f32` of FPU-less targets rounds like the hardware one, and scaling
     /// by the exponent gives what multiplying does.
     #[test]
@@ -658,7 +719,7 @@ mod tests {
             (state as i64) >> (k % 64)
         }));
         for v in values {
-            assert_eq!(bits_i64_to_f32(v).to_bits(), (v as f32).to_bits(), "{v}");
+            assert_eq!(bits_i64_to_f32_wide(v).to_bits(), (v as f32).to_bits(), "{v}");
             for e in [-40, -3, 0, 7, 60, 100, 120] {
                 let want = scale_by_power_of_two(v as f32, -e);
                 assert_eq!(soft_i64_to_f32_scaled(v, e).to_bits(), want.to_bits(), "{v} / 2^{e}");

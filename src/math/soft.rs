@@ -335,6 +335,22 @@ pub fn from_i32(v: i32) -> f32 {
     f32::from_bits(from_magnitude(v as u32 & SIGN, v.unsigned_abs()))
 }
 
+/// `v as f32`, in 32-bit halves (no 64-bit shifts, which are library calls on Armv6-M).
+#[inline(always)]
+pub fn from_i64(v: i64) -> f32 {
+    let sign = (v >> 32) as u32 & SIGN;
+    let m = v.unsigned_abs();
+    let (high, low) = ((m >> 32) as u32, m as u32);
+    if high == 0 {
+        return f32::from_bits(from_magnitude(sign, low));
+    }
+    // The top 32 bits from the leading one down; the bits of `low` below them only as sticky.
+    let shift = leading_zeros(high);
+    let top = if shift == 0 { high } else { (high << shift) | (low >> (32 - shift)) };
+    let sticky = u32::from(low << shift != 0);
+    f32::from_bits(round_pack(sign, 190 - shift as i32, top >> 8, (top << 24) | sticky))
+}
+
 /// `sign · m` rounded to a float: `m` shifted until its leading one is bit 31, the low 8 bits
 /// the rest.
 #[inline(always)]
@@ -479,17 +495,24 @@ mod tests {
         }
     }
 
-    /// Integer conversions: every power of two and its neighbours, and random integers of
+    /// Integer conversions (u32, i32, i64): every power of two and its neighbours, and random integers of
     /// every length.
     #[test]
     fn conversions_match_as() {
         let mut values = std::vec![0u32, 1, u32::MAX, 1 << 31, (1 << 24) + 1, (1 << 25) + 2, (1 << 25) + 6];
+        for wide in [i64::MIN, i64::MAX, 1 << 32, (1 << 56) + (1 << 32) + 1, (1 << 40) + (1 << 16)] {
+            assert_eq!(from_i64(wide).to_bits(), (wide as f32).to_bits(), "{wide}");
+            assert_eq!(from_i64(-wide).to_bits(), (-wide as f32).to_bits(), "{wide}");
+        }
         for k in 0..32 {
             values.extend([1u32 << k, (1u32 << k).wrapping_sub(1), (1u32 << k) + 1, (3u32 << k) >> 1]);
         }
         let mut random = Random(0x9e37_79b9_7f4a_7c15);
         values.extend((0..2_000_000).map(|k| (random.next() as u32) >> (k % 32)));
-        for v in values {
+        for (k, &v) in values.iter().enumerate() {
+            let wide = (i64::from(v) << 32 | i64::from(values[k / 2])) >> (k % 64);
+            assert_eq!(from_i64(wide).to_bits(), (wide as f32).to_bits(), "{wide}");
+            assert_eq!(from_i64(i64::from(v)).to_bits(), (v as f32).to_bits(), "{v}");
             assert_eq!(from_u32(v).to_bits(), (v as f32).to_bits(), "{v}");
             let i = v as i32;
             assert_eq!(from_i32(i).to_bits(), (i as f32).to_bits(), "{i}");

@@ -33,7 +33,7 @@ use super::varyings::ScreenVaryings;
 use crate::fixed::{
     depth40_to_30, fdot8_floor, fdot8_round, Depth30, Depth40, FDot16, FDot4, FDot8, DEPTH30_FAR, DEPTH40_ONE,
 };
-use crate::math::{max, min, F32};
+use crate::math::{max, min, mul_wide, wrapping_mul_small, F32};
 
 mod rows;
 mod walk;
@@ -180,8 +180,9 @@ pub(crate) fn facing_of(p: [(i32, i32, f32); 3], cull_back: bool, flip: bool) ->
     if !(inside && w_ok(p0.2) && w_ok(p1.2) && w_ok(p2.2)) {
         return Err(Reject::OutsideGuardBand);
     }
-    // Coordinates are < 2^15 apart (checked above): the products fit i64 easily.
-    let area = (p1.0 - p0.0) as i64 * (p2.1 - p0.1) as i64 - (p2.0 - p0.0) as i64 * (p1.1 - p0.1) as i64;
+    // Coordinates are < 2^15 apart (checked above): exact products by `mul_wide` (32-bit
+    // multiplies without an FPU, where an i64 one is a library call).
+    let area = mul_wide(p1.0 - p0.0, p2.1 - p0.1) - mul_wide(p2.0 - p0.0, p1.1 - p0.1);
     if area == 0 {
         return Err(Reject::Degenerate);
     }
@@ -398,7 +399,7 @@ impl<const V: usize> Setup<V> {
     /// garbage, never a panic.
     #[inline(always)]
     fn depth_at(&self, x: i32, dy: i32) -> Depth40 {
-        self.z_origin.wrapping_add(self.z_dx.wrapping_mul(x as i64)).wrapping_add(self.z_dy.wrapping_mul(dy as i64))
+        self.z_origin.wrapping_add(wrapping_mul_small(self.z_dx, x)).wrapping_add(wrapping_mul_small(self.z_dy, dy))
     }
 
     /// One row with perspective-correct varyings: runs with exact values at their ends (see
@@ -419,7 +420,7 @@ impl<const V: usize> Setup<V> {
         // only, so that every band makes the same choices).
         let mut try_len = hi - lo;
         while xs <= hi {
-            let z = z.wrapping_add(self.z_dx.wrapping_mul((xs - lo) as i64));
+            let z = z.wrapping_add(wrapping_mul_small(self.z_dx, xs - lo));
             if xs == hi {
                 // The last pixel of the span on its own.
                 self.emit(sink, y, xs, xs + 1, z, start.0, [0; V]);
@@ -474,7 +475,7 @@ impl<const V: usize> Setup<V> {
         // plane, or float rounding in a needle triangle's depth plane): pixel by pixel, clamped.
         let mut v = v;
         for k in 0..len {
-            let z = depth40_to_30(z.wrapping_add(self.z_dx.wrapping_mul(k as i64))).clamp(0, DEPTH30_FAR) as Depth30;
+            let z = depth40_to_30(z.wrapping_add(wrapping_mul_small(self.z_dx, k))).clamp(0, DEPTH30_FAR) as Depth30;
             sink.span(&Span { y, x: x + k, len: 1, z, dz: 0, v, dv });
             step_varyings(&mut v, &dv);
         }
