@@ -33,7 +33,7 @@ use super::varyings::ScreenVaryings;
 use crate::fixed::{
     depth40_to_30, fdot8_floor, fdot8_round, Depth30, Depth40, FDot16, FDot4, FDot8, DEPTH30_FAR, DEPTH40_ONE,
 };
-use crate::math::{max, min, to_i32};
+use crate::math::{max, min, mul_wide, wrapping_mul_small, F32};
 
 mod rows;
 mod walk;
@@ -122,11 +122,11 @@ pub struct Setup<const V: usize> {
     z_dx: Depth40,
     z_dy: Depth40,
     /// 1/w of each vertex divided by the largest (so in (0, 1]).
-    inv_w: [f32; 3],
+    inv_w: [F32; 3],
     /// Varyings at vertex 0 and their differences to vertices 1 and 2.
     v0: [FDot16; V],
-    d1: [f32; V],
-    d2: [f32; V],
+    d1: [F32; V],
+    d2: [F32; V],
     /// Twice the triangle's area in 1/256 pixel², positive.
     area: i64,
     /// Affine varyings when allowed (see [`Setup::allow_affine`]).
@@ -192,8 +192,9 @@ pub(crate) fn in_guard_band(p: [(i32, i32); 3]) -> bool {
 pub(crate) fn facing_in_guard_band(p: [(i32, i32); 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
     debug_assert!(in_guard_band(p));
     let [p0, p1, p2] = p;
-    // Coordinates are < 2^15 apart (in the guard band): the products fit i64 easily.
-    let area = (p1.0 - p0.0) as i64 * (p2.1 - p0.1) as i64 - (p2.0 - p0.0) as i64 * (p1.1 - p0.1) as i64;
+    // Coordinates are < 2^15 apart (in the guard band): exact products by `mul_wide` (32-bit
+    // multiplies without an FPU, where an i64 one is a library call).
+    let area = mul_wide(p1.0 - p0.0, p2.1 - p0.1) - mul_wide(p2.0 - p0.0, p1.1 - p0.1);
     if area == 0 {
         return Err(Reject::Degenerate);
     }
@@ -240,25 +241,28 @@ impl<const V: usize> Setup<V> {
         let (ox, oy) = (x0 * 16 + 8, fy0 * 16 + 8);
         let edges = [Edge::new(b, c, ox, oy), Edge::new(c, a, ox, oy), Edge::new(a, b, ox, oy)];
 
-        // Depth plane from the three vertices (f32 setup, deterministic on every target).
-        let af = crate::math::i64_to_f32(area);
-        let (dz1, dz2) = (b.z - a.z, c.z - a.z);
-        let (ex1, ey1, ex2, ey2) = ((b.x - a.x) as f32, (b.y - a.y) as f32, (c.x - a.x) as f32, (c.y - a.y) as f32);
+        // Depth plane from the three vertices (f32 setup, deterministic on every target; `F32`:
+        // no soft-float library calls without an FPU).
+        let af = F32(crate::math::i64_to_f32(area));
+        let (az, bz, cz) = (F32(a.z), F32(b.z), F32(c.z));
+        let (dz1, dz2) = (bz - az, cz - az);
+        let (ex1, ey1, ex2, ey2) =
+            (F32::from(b.x - a.x), F32::from(b.y - a.y), F32::from(c.x - a.x), F32::from(c.y - a.y));
         let gx = (dz1 * ey2 - dz2 * ey1) / af; // per 1/16 pixel
         let gy = (dz2 * ex1 - dz1 * ex2) / af;
-        let z_at_origin = a.z + gx * (ox - a.x) as f32 + gy * (oy - a.y) as f32;
-        let to_fixed = |v: f32| crate::math::f32_to_i64(v * DEPTH40_ONE);
+        let z_at_origin = az + gx * F32::from(ox - a.x) + gy * F32::from(oy - a.y);
+        let to_fixed = |v: F32| crate::math::f32_to_i64((v * F32(DEPTH40_ONE)).0);
 
-        let max_w = max(max(a.inv_w, b.inv_w), c.inv_w);
-        let norm = |q: f32| q / max_w;
+        let max_w = F32(max(max(a.inv_w, b.inv_w), c.inv_w));
+        let norm = |q: f32| F32(q) / max_w;
 
         let mut v0 = [0; V];
-        let mut d1 = [0.0; V];
-        let mut d2 = [0.0; V];
+        let mut d1 = [F32(0.0); V];
+        let mut d2 = [F32(0.0); V];
         for k in 0..V {
             v0[k] = a.varyings[k];
-            d1[k] = b.varyings[k].wrapping_sub(a.varyings[k]) as f32;
-            d2[k] = c.varyings[k].wrapping_sub(a.varyings[k]) as f32;
+            d1[k] = F32::from(b.varyings[k].wrapping_sub(a.varyings[k]));
+            d2[k] = F32::from(c.varyings[k].wrapping_sub(a.varyings[k]));
         }
         Ok(Setup {
             edges,
@@ -269,8 +273,8 @@ impl<const V: usize> Setup<V> {
             origin_row: fy0,
             rows_below: floor_div(max_y - 8, 16) - fy0,
             z_origin: to_fixed(z_at_origin),
-            z_dx: to_fixed(gx * 16.0),
-            z_dy: to_fixed(gy * 16.0),
+            z_dx: to_fixed(gx * F32(16.0)),
+            z_dy: to_fixed(gy * F32(16.0)),
             inv_w: [norm(a.inv_w), norm(b.inv_w), norm(c.inv_w)],
             v0,
             d1,
@@ -295,20 +299,21 @@ impl<const V: usize> Setup<V> {
     /// by a large depth ratio, and one division serves every varying.
     #[inline(always)]
     fn varyings_at(&self, e: [i32; 3]) -> ([i32; V], f32) {
-        let n = |k: usize| e[k].max(0) as f32 * self.inv_w[k];
+        // Non-negative, so converted as unsigned (the same value, a shorter conversion).
+        let n = |k: usize| F32::from(e[k].max(0) as u32) * self.inv_w[k];
         let (n1, n2) = (n(1), n(2));
         let sum = n(0) + n1 + n2;
         let mut out = self.v0;
         // Zero only where every edge function is (never inside a triangle).
-        if sum <= 0.0 {
+        if sum <= F32(0.0) {
             return (out, 0.0);
         }
-        let inv = 1.0 / sum;
+        let inv = F32(1.0) / sum;
         let (b1, b2) = (n1 * inv, n2 * inv);
         for ((o, d1), d2) in out.iter_mut().zip(self.d1).zip(self.d2) {
-            *o = o.wrapping_add(to_i32(d1 * b1 + d2 * b2));
+            *o = o.wrapping_add((d1 * b1 + d2 * b2).to_i32());
         }
-        (out, sum)
+        (out, sum.0)
     }
 
     /// Whether stepping linearly from `(a, qa)` to `(b, qb)` (exact varyings and `1/w` weights
@@ -316,8 +321,8 @@ impl<const V: usize> Setup<V> {
     /// triangle (see [`Setup::allow_affine`]), for a segment of one row.
     #[inline]
     fn linear_within(&self, (a, qa): &([i32; V], f32), (b, qb): &([i32; V], f32)) -> bool {
-        let ratio = (qa - qb).abs() / min(*qa, *qb);
-        (0..V).all(|k| (b[k].wrapping_sub(a[k]) as f32).abs() * ratio <= self.tolerance[k])
+        let ratio = (F32(*qa) - F32(*qb)).abs() / F32(min(*qa, *qb));
+        (0..V).all(|k| F32::from(b[k].wrapping_sub(a[k])).abs() * ratio <= F32(self.tolerance[k]))
     }
 
     /// Allows affine (screen-linear) varyings when that is provably within `tolerance[k]`
@@ -333,18 +338,19 @@ impl<const V: usize> Setup<V> {
     /// one unit (of 2^-16) per pixel of a run, which the exact path has too for `subspan > 1`.
     /// With equal `1/w` everywhere (e.g. an orthographic camera) affine is exact and always used.
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
-        let [q0, q1, q2] = self.inv_w;
-        let (q_min, q_max) = (min(min(q0, q1), q2), max(max(q0, q1), q2));
+        let [q0, q1, q2] = self.inv_w.map(|q| q.0);
+        let (q_min, q_max) = (F32(min(min(q0, q1), q2)), F32(max(max(q0, q1), q2)));
         let ratio = (q_max - q_min) / q_min;
+        let four_times = |t: u32| F32(4.0) * F32::from(t);
         let within = (0..V).all(|k| {
-            let (d1, d2) = (self.d1[k], self.d2[k]);
-            let range = max(max(d1, d2), 0.0) - min(min(d1, d2), 0.0);
-            range * ratio <= 4.0 * tolerance[k] as f32
+            let (d1, d2) = (self.d1[k].0, self.d2[k].0);
+            let range = F32(max(max(d1, d2), 0.0)) - F32(min(min(d1, d2), 0.0));
+            range * ratio <= four_times(tolerance[k])
         });
         let extent = (self.x1 - self.x0, self.rows_below);
         self.affine =
             within.then(|| AffinePlanes::new(&self.edges, self.area, (&self.v0, &self.d1, &self.d2), extent)).flatten();
-        self.tolerance = tolerance.map(|t| 4.0 * t as f32);
+        self.tolerance = tolerance.map(|t| four_times(t).0);
     }
 
     /// Whether varyings are interpolated affinely (see [`Setup::allow_affine`]).
@@ -405,7 +411,7 @@ impl<const V: usize> Setup<V> {
     /// garbage, never a panic.
     #[inline(always)]
     fn depth_at(&self, x: i32, dy: i32) -> Depth40 {
-        self.z_origin.wrapping_add(self.z_dx.wrapping_mul(x as i64)).wrapping_add(self.z_dy.wrapping_mul(dy as i64))
+        self.z_origin.wrapping_add(wrapping_mul_small(self.z_dx, x)).wrapping_add(wrapping_mul_small(self.z_dy, dy))
     }
 
     /// One row with perspective-correct varyings: runs with exact values at their ends (see
@@ -419,14 +425,14 @@ impl<const V: usize> Setup<V> {
         });
         let e_at = |x: i32| -> [i32; 3] { core::array::from_fn(|k| e[k] + self.edges[k].a * 16 * (x - lo)) };
         let exact = |x: i32| self.varyings_at(e_at(x));
-        let adaptive = subspan == 1 && self.tolerance.iter().any(|&t| t > 0.0);
+        let adaptive = subspan == 1 && self.tolerance.iter().any(|&t| F32(t) > F32(0.0));
         let mut xs = lo;
         let mut start = exact(xs);
         // Adaptive: the next segment's length to try, from the last one that passed (per row
         // only, so that every band makes the same choices).
         let mut try_len = hi - lo;
         while xs <= hi {
-            let z = z.wrapping_add(self.z_dx.wrapping_mul((xs - lo) as i64));
+            let z = z.wrapping_add(wrapping_mul_small(self.z_dx, xs - lo));
             if xs == hi {
                 // The last pixel of the span on its own.
                 self.emit(sink, y, xs, xs + 1, z, start.0, [0; V]);
@@ -481,7 +487,7 @@ impl<const V: usize> Setup<V> {
         // plane, or float rounding in a needle triangle's depth plane): pixel by pixel, clamped.
         let mut v = v;
         for k in 0..len {
-            let z = depth40_to_30(z.wrapping_add(self.z_dx.wrapping_mul(k as i64))).clamp(0, DEPTH30_FAR) as Depth30;
+            let z = depth40_to_30(z.wrapping_add(wrapping_mul_small(self.z_dx, k))).clamp(0, DEPTH30_FAR) as Depth30;
             sink.span(&Span { y, x: x + k, len: 1, z, dz: 0, v, dv });
             step_varyings(&mut v, &dv);
         }
@@ -546,30 +552,30 @@ impl<const V: usize> AffinePlanes<V> {
     fn new(
         edges: &[Edge; 3],
         area: i64,
-        (v0, d1, d2): (&[i32; V], &[f32; V], &[f32; V]),
+        (v0, d1, d2): (&[i32; V], &[F32; V], &[F32; V]),
         (width, height): (i32, i32),
     ) -> Option<Self> {
-        let inv_area = 1.0 / crate::math::i64_to_f32(area);
-        let per_pixel = |c: i32| (c * 16) as f32 * inv_area;
-        let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), edges[1].c as f32 * inv_area);
-        let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), edges[2].c as f32 * inv_area);
+        let inv_area = F32(1.0) / F32(crate::math::i64_to_f32(area));
+        let per_pixel = |c: i32| F32::from(c * 16) * inv_area;
+        let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), F32::from(edges[1].c) * inv_area);
+        let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), F32::from(edges[2].c) * inv_area);
         // At least one pixel each way: the bound below must hold `gx` and `gy` themselves too
         // (the per-pixel step is `gx`, rounded), also for a box one column or row wide.
-        let (w, h) = (width.max(1) as f32, height.max(1) as f32);
+        let (w, h) = (F32::from(width.max(1)), F32::from(height.max(1)));
         let mut p = AffinePlanes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
         for k in 0..V {
-            let (d1, d2) = (d1[k] * 256.0, d2[k] * 256.0);
+            let (d1, d2) = (d1[k] * F32(256.0), d2[k] * F32(256.0));
             // Relative to vertex 0's value, added back in integers: large values (e.g. world
             // positions) keep their precision.
             let (o, gx, gy) = (d1 * b1o + d2 * b2o, d1 * b1x + d2 * b2x, d1 * b1y + d2 * b2y);
             // Within 2^30 with f32's rounding (a relative 2^-23) to spare; NaN fails too. So
             // `origin + gx·x + gy·y` fits i32 for every pixel of the box, and `gx + 128` too.
-            let fits = o.abs() + gx.abs() * w + gy.abs() * h < (1u32 << 30) as f32;
+            let fits = o.abs() + gx.abs() * w + gy.abs() * h < F32((1u32 << 30) as f32);
             if !fits {
                 return None;
             }
             // Truncating: under one unit of 2^-8 off.
-            let (o, gx, gy) = (to_i32(o), to_i32(gx), to_i32(gy));
+            let (o, gx, gy) = (o.to_i32(), gx.to_i32(), gy.to_i32());
             (p.origin[k], p.gx[k], p.gy[k], p.step[k]) = (o, gx, gy, fdot8_round(gx));
         }
         Some(p)

@@ -9,6 +9,7 @@
 use super::Span;
 use super::{RowWalk, Setup, SpanSink};
 use crate::fixed::{depth40_to_30, Depth30, FDot16};
+use crate::math::mul_wide;
 
 impl<const V: usize> Setup<V> {
     /// The rows of this triangle for a span loop that walks them itself ([`WalkedRows`]):
@@ -24,7 +25,8 @@ impl<const V: usize> Setup<V> {
         }
         let dz = self.safe_depth_step()?;
         // Gradients within i32 (all but the steepest triangles): the depth at a row's first
-        // pixel is then two 32x32-bit multiply-accumulates (`smlal` on Cortex-M4).
+        // pixel is then two 32x32-bit multiply-accumulates (`smlal` on Cortex-M4; see
+        // `math::mul_wide`, whose bound the box's rows and columns, below 2^11, meet).
         let (z_dx, z_dy) = (i32::try_from(self.z_dx).ok()?, i32::try_from(self.z_dy).ok()?);
         Some(WalkedRows { setup: self, walk: self.row_walk(), y: self.y0, z_dx, z_dy, dz })
     }
@@ -128,10 +130,7 @@ impl<const V: usize> WalkedRows<'_, V> {
             },
         };
         // The same value as `Setup::depth_at` (the same products, wrapping sums).
-        let z40 = s
-            .z_origin
-            .wrapping_add(i64::from(self.z_dx) * i64::from(lo))
-            .wrapping_add(i64::from(self.z_dy) * i64::from(dy));
+        let z40 = s.z_origin.wrapping_add(mul_wide(self.z_dx, lo)).wrapping_add(mul_wide(self.z_dy, dy));
         let z = depth40_to_30(z40) as Depth30;
         Some(WalkedRow::Run(y, s.x0 + lo, (hi + 1 - lo) as u32, z, v, dv))
     }
