@@ -20,7 +20,7 @@ mod soft;
 /// much (its multiply widens to a 64-bit library multiply, its conversions call `__clzsi2`).
 /// The same bits either way, so frames stay bit-identical to the host's.
 ///
-/// For the rasterizer's per-row and per-triangle float code; elsewhere plain `f32` is fine.
+/// For the per-vertex, per-triangle and per-row float code; elsewhere plain `f32` is fine.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(transparent)]
 pub struct F32(pub f32);
