@@ -1,8 +1,8 @@
-//! Exact integer division by a small divisor (below 256: a run's length in pixels), for
-//! targets without a divide instruction (`cfg(no_hw_divide)`), where each `/` is a library call
-//! of about 100 instructions: the quotient from the high half of a 32 x 32 -> 64-bit product
-//! with the divisor's inverse from a table (four 16-bit products), corrected by its remainder.
-//! The same integers as `/` and `%`.
+//! Exact integer division by a small divisor (below 256: a run's length in pixels, an edge's
+//! height in 1/16 pixel), for targets without a divide instruction (`cfg(no_hw_divide)`), where
+//! each `/` is a library call of about 100 instructions: the quotient from the high half of a
+//! 32 x 32 -> 64-bit product with the divisor's inverse from a table (four 16-bit products),
+//! corrected by its remainder. The same integers as `/` and `%`.
 
 /// The divisors with an inverse in the tables.
 const SMALL: u32 = 256;
@@ -44,6 +44,18 @@ impl Divisor {
             q.wrapping_neg()
         } else {
             q
+        }
+    }
+
+    /// `floor(n / d)`.
+    #[inline(always)]
+    pub(super) fn floor_div(&self, n: i32) -> i32 {
+        let (q, r) = self.div_rem(n.unsigned_abs());
+        match (n < 0, r != 0) {
+            (false, _) => q as i32,
+            (true, false) => (q as i32).wrapping_neg(),
+            // -(q·d + r) with 0 < r < d: between -(q + 1)·d and -q·d.
+            (true, true) => (q as i32).wrapping_neg() - 1,
         }
     }
 }
@@ -95,6 +107,7 @@ mod tests {
                 assert_eq!(div.div_rem(n), (n / d, n % d), "{n} / {d}");
                 let s = n as i32;
                 assert_eq!(div.div_trunc(s), s.wrapping_div(d as i32), "{s} / {d}");
+                assert_eq!(div.floor_div(s), s.div_euclid(d as i32), "{s} / {d}");
             }
         }
     }
