@@ -45,7 +45,7 @@ pub const DEPTH30_FAR: i64 = 1 << 30;
 #[inline(always)]
 #[must_use]
 pub fn fdot4_floor(p: f32) -> FDot4 {
-    crate::math::floor_to_i32(p * 16.0)
+    crate::math::floor_to_i32(crate::math::times_16(p))
 }
 
 /// A [`Depth40`] value in [`Depth30`] units (the low 10 bits dropped, sign kept): the caller

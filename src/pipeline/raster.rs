@@ -35,6 +35,8 @@ use crate::fixed::{
 };
 use crate::math::{max, min, mul_wide, wrapping_mul_small, F32};
 
+#[cfg(any(no_hw_divide, test))]
+mod divide;
 mod rows;
 mod walk;
 pub(crate) use rows::{WalkedRow, WalkedRows};

@@ -10,7 +10,7 @@ use super::scratch::{TransformedVertex, UNKNOWN_INV_W};
 use super::varyings::{ClipVaryings, PixelLit, ScreenVaryings, VertexLit, MAX_VARYINGS};
 use super::{Context, DrawSetup, Shading};
 use crate::fixed::{fdot4_floor, FDot16, FDot4, FDOT16_ONE};
-use crate::math::{normalize_or_zero, Vec3, Vec4};
+use crate::math::{normalize_or_zero, Vec3, Vec4, F32};
 use crate::texture::Sampler;
 
 /// Light (red, green, blue) and specular intensity reaching a vertex, 0..=65535 for 0..=1
@@ -235,7 +235,9 @@ pub(crate) fn texel_scale(sampler: Option<&Sampler<'_>>) -> (f32, f32) {
 #[inline(always)]
 pub(crate) fn texel(s: &DrawSetup<'_>, i: u32, (width, height): (f32, f32)) -> [f32; 2] {
     let (uv, (o, sc)) = (s.arrays.uv_q(i), s.uv);
-    [(o[0] + uv[0] as f32 * sc[0]) * width, (o[1] + uv[1] as f32 * sc[1]) * height]
+    // In `F32`: once per vertex, but library calls without an FPU.
+    let at = |k: usize, size: f32| ((F32(o[k]) + F32::from(u32::from(uv[k])) * F32(sc[k])) * F32(size)).0;
+    [at(0, width), at(1, height)]
 }
 
 /// One light channel times the vertex colour's channel `c` (255 for 1).
@@ -321,16 +323,24 @@ pub(crate) fn project(v: &ClipVertex, half: (f32, f32)) -> ScreenVertex {
 /// Depth (0..=1, near to far) of a clip-space point whose `1/w` is `inv_w`.
 #[inline]
 pub(crate) fn depth(clip: Vec4, inv_w: f32) -> f32 {
-    ((clip.z * inv_w + 1.0) * 0.5).clamp(0.0, 1.0)
+    let z = (F32(clip.z) * F32(inv_w) + F32(1.0)) * F32(0.5);
+    // `f32::clamp` in `F32` comparisons: NaN stays NaN.
+    let z = if z < F32(0.0) { F32(0.0) } else { z };
+    if z > F32(1.0) {
+        1.0
+    } else {
+        z.0
+    }
 }
 
 /// The snapped screen position (28.4) and `1/w` of a clip-space point; no depth or varyings.
 pub(crate) fn project_xy(pos: Vec4, (hw, hh): (f32, f32)) -> ScreenVertex {
-    let inv_w = 1.0 / pos.w;
-    let x = (pos.x * inv_w + 1.0) * hw;
-    let y = (1.0 - pos.y * inv_w) * hh;
-    let snap = fdot4_floor;
-    ScreenVertex { x: snap(x), y: snap(y), z: 0.0, inv_w, varyings: [0; MAX_VARYINGS] }
+    // In `F32`: once per vertex, but library calls without an FPU.
+    let (one, inv_w) = (F32(1.0), F32(1.0) / F32(pos.w));
+    let x = (F32(pos.x) * inv_w + one) * F32(hw);
+    let y = (one - F32(pos.y) * inv_w) * F32(hh);
+    let snap = |p: F32| fdot4_floor(p.0);
+    ScreenVertex { x: snap(x), y: snap(y), z: 0.0, inv_w: inv_w.0, varyings: [0; MAX_VARYINGS] }
 }
 
 #[cfg(test)]

@@ -49,8 +49,7 @@ impl<const V: usize> Setup<V> {
         if hi > lo + 1 && !self.linear_within(&start, &end) {
             return None;
         }
-        let len = hi - lo;
-        Some((start.0, core::array::from_fn(|k| end.0[k].wrapping_sub(start.0[k]) / len)))
+        Some((start.0, per_pixel_steps(&start.0, &end.0, hi - lo)))
     }
 
     /// The per-pixel depth step in 2.30 when every run in the window steps within 0..=2^30
@@ -78,6 +77,17 @@ impl<const V: usize> Setup<V> {
         let inside = |z: i64| ((w + 1) << 10..=1 << 40).contains(&z);
         (inside(top) && inside(top + across) && inside(bottom) && inside(bottom + across)).then_some(dz)
     }
+}
+
+/// `(end - start) / len` for each varying (the difference wrapping, the quotient truncated),
+/// `len > 0`: without a divide instruction, from `len`'s inverse when it is below 256.
+#[inline(always)]
+fn per_pixel_steps<const V: usize>(start: &[FDot16; V], end: &[FDot16; V], len: i32) -> [FDot16; V] {
+    #[cfg(no_hw_divide)]
+    if let Some(divisor) = super::divide::Divisor::small(len as u32) {
+        return core::array::from_fn(|k| divisor.div_trunc(end[k].wrapping_sub(start[k])));
+    }
+    core::array::from_fn(|k| end[k].wrapping_sub(start[k]) / len)
 }
 
 /// A triangle's rows, walked by the span loop itself (see [`Setup::walked_rows`]): the same

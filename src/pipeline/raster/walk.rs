@@ -107,7 +107,12 @@ impl CarriedEdge {
             return CarriedEdge { q: row, r: 0, dq: b16, dr: 0, d: 1, step };
         }
         let d = step.abs();
-        let (q, dq) = (super::floor_div(row, d), super::floor_div(b16, d));
+        let (q, dq) = match super::divide::Divisor::small(d as u32 >> 4) {
+            // `d = 16·|a|`, and `floor(n / 16a) = floor(floor(n / 16) / a)`: edges less than 16
+            // pixels tall (most) divide by `|a|`'s inverse.
+            Some(a) => (a.floor_div(row >> 4), a.floor_div(b16 >> 4)),
+            None => (super::floor_div(row, d), super::floor_div(b16, d)),
+        };
         CarriedEdge { q, r: row - q * d, dq, dr: b16 - dq * d, d, step }
     }
 
