@@ -702,7 +702,9 @@ mod tests {
             bits = next;
         }
         assert!(times_16_bits(1.0).is_some() && times_16_bits(f32::from_bits(0x7d7f_ffff)).is_some());
-        assert!(times_16_bits(f32::from_bits(0x7d80_0000)).is_none() && times_16_bits(f32::MIN_POSITIVE / 2.0).is_none());
+        assert!(
+            times_16_bits(f32::from_bits(0x7d80_0000)).is_none() && times_16_bits(f32::MIN_POSITIVE / 2.0).is_none()
+        );
         assert!(answered > 1000, "{answered}");
     }
 

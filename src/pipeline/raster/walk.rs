@@ -32,9 +32,38 @@ impl RowWalk {
     /// then on to the next row.
     #[inline(always)]
     pub(super) fn next_row(&mut self, last: i32) -> (i32, i32) {
-        let span = self.0.iter().fold((0, last), |span, w| w.clamp(span));
+        let span = self.0.iter().fold((0, last), |span, w| clamp(w, span));
         self.0.iter_mut().for_each(EdgeRow::next_row);
         span
+    }
+}
+
+/// What an edge says of the current row, however it is walked.
+trait EdgeBound {
+    /// `16·a`: positive for a left edge, negative for a right one, 0 for a flat one.
+    fn step(&self) -> i32;
+    /// A left edge's first inside column, `ceil(-row / step)` (or anything at most 0 when that
+    /// is negative).
+    fn first(&self) -> i32;
+    /// A right edge's last inside column, `floor(row / -step)` (or anything negative when that
+    /// is).
+    fn last(&self) -> i32;
+    /// A flat edge's `row >= 0`: the whole row is inside, or all of it outside.
+    fn flat_inside(&self) -> bool;
+}
+
+/// `[lo, hi]` (with `lo >= 0`) narrowed to where edge `e` is non-negative on the current row.
+#[inline(always)]
+fn clamp(e: &impl EdgeBound, (lo, hi): (i32, i32)) -> (i32, i32) {
+    let step = e.step();
+    if step > 0 {
+        (lo.max(e.first()), hi)
+    } else if step < 0 {
+        (lo, hi.min(e.last()))
+    } else if e.flat_inside() {
+        (lo, hi)
+    } else {
+        (1, 0)
     }
 }
 
@@ -56,31 +85,41 @@ impl DividedEdge {
         DividedEdge { row: e.c + e.b * 16 * dy, b16: e.b * 16, d: (e.a * 16).unsigned_abs(), step: e.a * 16 }
     }
 
-    /// `[lo, hi]` narrowed to where this edge is non-negative on the current row.
-    #[inline(always)]
-    fn clamp(&self, (lo, hi): (i32, i32)) -> (i32, i32) {
-        let row = self.row;
-        if self.step > 0 {
-            // `ceil(-row / d) = floor((d - 1 - row) / d)`, at most 0 when `row >= 0`; in u32,
-            // where `d - 1 - row` (below 2^31 + 2^20) fits whenever it is non-negative.
-            let d_1 = self.d - 1;
-            let first = if row > d_1 as i32 { 0 } else { (d_1.wrapping_sub(row as u32) / self.d) as i32 };
-            (lo.max(first), hi)
-        } else if self.step < 0 {
-            let last = if row < 0 { -1 } else { (row as u32 / self.d) as i32 };
-            (lo, hi.min(last))
-        } else if row >= 0 {
-            // A flat edge: the whole row is inside, or all of it outside.
-            (lo, hi)
-        } else {
-            (1, 0)
-        }
-    }
-
     /// On to the next row (wrapping: the row after the box's last need not fit).
     #[inline(always)]
     fn next_row(&mut self) {
         self.row = self.row.wrapping_add(self.b16);
+    }
+}
+
+#[cfg(any(not(no_hw_divide), test))]
+impl EdgeBound for DividedEdge {
+    #[inline(always)]
+    fn step(&self) -> i32 {
+        self.step
+    }
+    #[inline(always)]
+    fn first(&self) -> i32 {
+        // `ceil(-row / d) = floor((d - 1 - row) / d)`, at most 0 when `row >= 0`; in u32,
+        // where `d - 1 - row` (below 2^31 + 2^20) fits whenever it is non-negative.
+        let d_1 = self.d - 1;
+        if self.row > d_1 as i32 {
+            0
+        } else {
+            (d_1.wrapping_sub(self.row as u32) / self.d) as i32
+        }
+    }
+    #[inline(always)]
+    fn last(&self) -> i32 {
+        if self.row < 0 {
+            -1
+        } else {
+            (self.row as u32 / self.d) as i32
+        }
+    }
+    #[inline(always)]
+    fn flat_inside(&self) -> bool {
+        self.row >= 0
     }
 }
 
@@ -116,21 +155,6 @@ impl CarriedEdge {
         CarriedEdge { q, r: row - q * d, dq, dr: b16 - dq * d, d, step }
     }
 
-    /// `[lo, hi]` narrowed to where this edge is non-negative on the current row.
-    #[inline(always)]
-    fn clamp(&self, (lo, hi): (i32, i32)) -> (i32, i32) {
-        if self.step > 0 {
-            (lo.max(-self.q), hi)
-        } else if self.step < 0 {
-            (lo, hi.min(self.q))
-        } else if self.q >= 0 {
-            // A flat edge: the whole row is inside, or all of it outside.
-            (lo, hi)
-        } else {
-            (1, 0)
-        }
-    }
-
     /// On to the next row (wrapping: the row after the box's last need not fit).
     #[inline(always)]
     fn next_row(&mut self) {
@@ -140,6 +164,26 @@ impl CarriedEdge {
             self.r -= self.d;
             self.q = self.q.wrapping_add(1);
         }
+    }
+}
+
+#[cfg(any(no_hw_divide, test))]
+impl EdgeBound for CarriedEdge {
+    #[inline(always)]
+    fn step(&self) -> i32 {
+        self.step
+    }
+    #[inline(always)]
+    fn first(&self) -> i32 {
+        -self.q
+    }
+    #[inline(always)]
+    fn last(&self) -> i32 {
+        self.q
+    }
+    #[inline(always)]
+    fn flat_inside(&self) -> bool {
+        self.q >= 0
     }
 }
 
@@ -170,7 +214,7 @@ mod tests {
             let covered = |(lo, hi): (i32, i32)| (lo <= hi).then_some((lo, hi));
             for _ in 0..40 {
                 let span = (next(2), last);
-                let (d, c) = (covered(divided.clamp(span)), covered(carried.clamp(span)));
+                let (d, c) = (covered(clamp(&divided, span)), covered(clamp(&carried, span)));
                 assert_eq!(d, c, "{e:?} at row value {}", divided.row);
                 ties += i32::from(divided.d > 0 && divided.row % divided.d as i32 == 0);
                 divided.next_row();
