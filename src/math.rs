@@ -16,7 +16,7 @@ mod soft;
 
 /// An `f32` whose arithmetic (`+ - * /`, comparisons, `From<i32>`, `From<u32>`) rounds like
 /// IEEE-754 binary32 hardware on every target: the FPU's instructions where there is one, and
-/// integer code ([`soft`]) without, where the soft-float library's calls cost 2 to 5 times as
+/// integer code (`math::soft`) without, where the soft-float library's calls cost 2 to 5 times as
 /// much (its multiply widens to a 64-bit library multiply, its conversions call `__clzsi2`).
 /// The same bits either way, so frames stay bit-identical to the host's.
 ///
@@ -508,7 +508,7 @@ impl FixedTransform {
 }
 
 /// `x · 16`, the same bits as the float multiply: without an FPU, from the bits when that is
-/// exact ([`times_16_bits`]), as the multiply costs about 66 instructions there.
+/// exact (`times_16_bits`), as the multiply costs about 66 instructions there.
 #[inline(always)]
 #[must_use]
 pub fn times_16(x: f32) -> f32 {
@@ -640,7 +640,7 @@ pub fn normal_matrix(m: &Mat4) -> Mat3 {
 
 /// `max(a, b)` by comparison, `b` when `a` is NaN (as `f32::max` for a NaN `a`): `f32::max`
 /// is a library call (`fmaxf`) on Cortex-M4F, whose FPU has no max instruction (and without
-/// an FPU, the comparison is integer code, see [`less`]).
+/// an FPU, the comparison is integer code, see `less`).
 #[inline(always)]
 #[must_use]
 pub fn max(a: f32, b: f32) -> f32 {
