@@ -11,172 +11,14 @@
 
 pub use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
+mod float;
 #[cfg(any(soft_float, test))]
 mod soft;
+mod wide;
 
-/// An `f32` whose arithmetic (`+ - * /`, comparisons, `From<i32>`, `From<u32>`) rounds like
-/// IEEE-754 binary32 hardware on every target: the FPU's instructions where there is one, and
-/// integer code (`math::soft`) without, where the soft-float library's calls cost 2 to 5 times as
-/// much (its multiply widens to a 64-bit library multiply, its conversions call `__clzsi2`).
-/// The same bits either way, so frames stay bit-identical to the host's.
-///
-/// For the per-vertex, per-triangle and per-row float code; elsewhere plain `f32` is fine.
-#[derive(Clone, Copy, Debug, Default)]
-#[repr(transparent)]
-pub struct F32(pub f32);
-
-/// One binary operator of [`F32`]: `soft::$soft` without an FPU, the `f32` operator with one.
-macro_rules! f32_operator {
-    ($trait:ident, $method:ident, $soft:ident, $op:tt) => {
-        impl core::ops::$trait for F32 {
-            type Output = F32;
-            #[inline(always)]
-            fn $method(self, other: F32) -> F32 {
-                #[cfg(soft_float)]
-                {
-                    F32(soft::$soft(self.0, other.0))
-                }
-                #[cfg(not(soft_float))]
-                {
-                    F32(self.0 $op other.0)
-                }
-            }
-        }
-    };
-}
-
-f32_operator!(Add, add, add, +);
-f32_operator!(Sub, sub, sub, -);
-f32_operator!(Mul, mul, mul, *);
-f32_operator!(Div, div, div, /);
-
-impl From<i32> for F32 {
-    /// `v as f32`.
-    #[inline(always)]
-    fn from(v: i32) -> F32 {
-        #[cfg(soft_float)]
-        {
-            F32(soft::from_i32(v))
-        }
-        #[cfg(not(soft_float))]
-        {
-            F32(v as f32)
-        }
-    }
-}
-
-impl From<u32> for F32 {
-    /// `v as f32`.
-    #[inline(always)]
-    fn from(v: u32) -> F32 {
-        #[cfg(soft_float)]
-        {
-            F32(soft::from_u32(v))
-        }
-        #[cfg(not(soft_float))]
-        {
-            F32(v as f32)
-        }
-    }
-}
-
-impl F32 {
-    /// `|x|`: the sign bit cleared (no library call on any target).
-    #[inline(always)]
-    #[must_use]
-    pub fn abs(self) -> F32 {
-        F32(self.0.abs())
-    }
-
-    /// `x as i32` (see [`to_i32`]).
-    #[inline(always)]
-    #[must_use]
-    pub fn to_i32(self) -> i32 {
-        to_i32(self.0)
-    }
-}
-
-impl PartialEq for F32 {
-    /// Float equality: `-0 == +0`, NaN equal to nothing.
-    #[inline(always)]
-    fn eq(&self, other: &F32) -> bool {
-        self.le(other) && other.le(self)
-    }
-}
-
-impl PartialOrd for F32 {
-    #[inline(always)]
-    fn partial_cmp(&self, other: &F32) -> Option<core::cmp::Ordering> {
-        use core::cmp::Ordering;
-        match (self < other, other < self) {
-            (true, _) => Some(Ordering::Less),
-            (_, true) => Some(Ordering::Greater),
-            _ if self == other => Some(Ordering::Equal),
-            _ => None,
-        }
-    }
-
-    #[inline(always)]
-    fn lt(&self, other: &F32) -> bool {
-        less(self.0, other.0)
-    }
-
-    #[inline(always)]
-    fn le(&self, other: &F32) -> bool {
-        less_or_equal(self.0, other.0)
-    }
-
-    #[inline(always)]
-    fn gt(&self, other: &F32) -> bool {
-        greater(self.0, other.0)
-    }
-
-    #[inline(always)]
-    fn ge(&self, other: &F32) -> bool {
-        less_or_equal(other.0, self.0)
-    }
-}
-
-/// `a < b`: an integer comparison of the bits without an FPU (see [`order_key`]), where the
-/// library's comparison is a call of about 30 instructions.
-#[inline(always)]
-fn less(a: f32, b: f32) -> bool {
-    #[cfg(soft_float)]
-    {
-        soft::lt(a, b)
-    }
-    #[cfg(not(soft_float))]
-    {
-        a < b
-    }
-}
-
-/// `a > b` (see [`less`]; written as `>` with an FPU, where the compiler then shares one
-/// comparison between a `max` and a `min` of the same pair).
-#[inline(always)]
-fn greater(a: f32, b: f32) -> bool {
-    #[cfg(soft_float)]
-    {
-        soft::lt(b, a)
-    }
-    #[cfg(not(soft_float))]
-    {
-        a > b
-    }
-}
-
-/// `a <= b` (see [`less`]).
-#[inline(always)]
-fn less_or_equal(a: f32, b: f32) -> bool {
-    #[cfg(soft_float)]
-    {
-        soft::le(a, b)
-    }
-    #[cfg(not(soft_float))]
-    {
-        a <= b
-    }
-}
+pub use float::F32;
+use float::{greater, less};
+pub use wide::{mul_wide, wrapping_mul_small};
 
 /// Square root (libm).
 #[inline]
@@ -321,58 +163,6 @@ pub fn order_key(x: f32) -> i32 {
     } else {
         b
     }
-}
-
-/// `a · q` exactly, for any `a` and `|q| <= 2^15`: two 32-bit products on FPU-less targets
-/// (whose 64-bit multiply is a library call), one widening multiply elsewhere.
-#[inline(always)]
-#[must_use]
-pub fn mul_wide(a: i32, q: i32) -> i64 {
-    debug_assert!(q.unsigned_abs() <= 1 << 15);
-    #[cfg(soft_float)]
-    {
-        mul_wide_halves(a, q)
-    }
-    #[cfg(not(soft_float))]
-    {
-        a as i64 * q as i64
-    }
-}
-
-/// [`mul_wide`] from `a`'s 16-bit halves: `|a >> 16| <= 2^15` and `(a & 0xffff) < 2^16`, so
-/// with `|q| <= 2^15` the products are at most 2^30 and `2^31 - 2^15` in magnitude: both fit
-/// in i32.
-#[cfg(any(soft_float, test))]
-#[inline(always)]
-fn mul_wide_halves(a: i32, q: i32) -> i64 {
-    (((a >> 16) * q) as i64) * 65536 + ((a & 0xffff) * q) as i64
-}
-
-/// `z.wrapping_mul(k)` for an `i64` and a small `k` (a pixel or row offset): without an FPU
-/// (Armv6-M: no 64-bit multiply, `__aeabi_lmul` is a call of about 40 instructions) from three
-/// 32-bit products when `|k| < 2^15`, else the plain wrapping multiply.
-#[inline(always)]
-#[must_use]
-pub fn wrapping_mul_small(z: i64, k: i32) -> i64 {
-    #[cfg(soft_float)]
-    {
-        if k.unsigned_abs() < 1 << 15 {
-            return wrapping_mul_halves(z, k);
-        }
-    }
-    z.wrapping_mul(k as i64)
-}
-
-/// [`wrapping_mul_small`] for `|k| < 2^15` from 32-bit products: `z = high·2^32 + low`, so
-/// `z·k = high·k·2^32 + low·k (mod 2^64)`, with `low·k` from `low`'s 16-bit halves (each
-/// product below 2^31 in magnitude).
-#[cfg(any(soft_float, test))]
-#[inline(always)]
-fn wrapping_mul_halves(z: i64, k: i32) -> i64 {
-    debug_assert!(k.unsigned_abs() < 1 << 15);
-    let (high, low) = ((z >> 32) as i32, z as u32);
-    let low_k = ((((low >> 16) as i32 * k) as i64) << 16) + ((low & 0xffff) as i32 * k) as i64;
-    ((high.wrapping_mul(k) as i64) << 32).wrapping_add(low_k)
 }
 
 /// `x · 2^e` for `|e| <= 120`, exact unless the result leaves f32's normal range.
@@ -708,23 +498,6 @@ mod tests {
         assert!(answered > 1000, "{answered}");
     }
 
-    /// `mul_wide`'s halves equal the 64-bit product over the whole range of `a` and the
-    /// extremes of `q`.
-    #[test]
-    fn mul_wide_halves_is_the_exact_product() {
-        let edges = [i32::MIN, i32::MIN + 1, -65_537, -65_536, -1, 0, 1, 65_535, 65_536, i32::MAX - 1, i32::MAX];
-        let mut seed = 0x1234_5678_u32;
-        let random = (0..100_000).map(|_| {
-            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            seed as i32
-        });
-        for a in edges.into_iter().chain(random) {
-            for q in [-(1 << 15), -(1 << 15) + 1, -2_047, -1, 0, 1, 2_047, (1 << 15) - 1, 1 << 15] {
-                assert_eq!(mul_wide_halves(a, q), a as i64 * q as i64, "{a} * {q}");
-            }
-        }
-    }
-
     #[test]
     fn max_min_clamp_match_the_float_methods() {
         for (a, b) in [(1.0f32, 2.0), (2.0, 1.0), (-0.5, 0.0), (f32::NAN, 0.0), (3.0, 3.0)] {
@@ -749,25 +522,6 @@ mod tests {
         }
         for x in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 9.2e18, -9.3e18, 2147483648.0, -2147483648.0, -0.7] {
             assert_eq!(f32_to_i64(x), x as i64, "{x:e}");
-        }
-    }
-
-    /// The 32-bit-product multiply of FPU-less targets wraps like `i64::wrapping_mul`.
-    #[test]
-    fn wrapping_mul_halves_matches_wrapping_mul() {
-        let mut state = 0x0123_4567_89ab_cdefu64;
-        for n in 0..1_000_000u32 {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let z = (state as i64) >> (n % 64);
-            let k = (state >> 17) as i32 % (1 << 15);
-            assert_eq!(wrapping_mul_halves(z, k), z.wrapping_mul(k as i64), "{z} * {k}");
-        }
-        for z in [i64::MIN, i64::MAX, -1, 1 << 32, -(1 << 40) + 3] {
-            for k in [0, 1, -1, (1 << 15) - 1, -(1 << 15) + 1] {
-                assert_eq!(wrapping_mul_halves(z, k), z.wrapping_mul(k as i64), "{z} * {k}");
-            }
         }
     }
 
