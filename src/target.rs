@@ -39,6 +39,13 @@ pub trait FrameColor: Copy {
         let [r, g, b, _] = crate::format::decode_texel(crate::format::TextureFormat::Rgb565, &texel.to_le_bytes());
         Self::from_rgb888(crate::texture::modulate([r, g, b], light))
     }
+    /// An RGB565 texel lit by white `light` (16.16): [`FrameColor::from_lit_rgb565`] with the
+    /// light on every channel. RGB565 formats override it with
+    /// [`modulate565_white`](crate::texture::modulate565_white) (within one step of that).
+    #[inline(always)]
+    fn from_white_lit_rgb565(texel: u16, light: i32) -> Self {
+        Self::from_lit_rgb565(texel, [light; 3])
+    }
 }
 
 /// The 4x4 Bayer matrix: thresholds 0..16.
@@ -117,6 +124,12 @@ impl FrameColor for Rgb565 {
     fn from_lit_rgb565(texel: u16, light: [i32; 3]) -> Self {
         Rgb565::from(embedded_graphics_core::pixelcolor::raw::RawU16::new(crate::texture::modulate565(texel, light)))
     }
+    #[inline(always)]
+    fn from_white_lit_rgb565(texel: u16, light: i32) -> Self {
+        Rgb565::from(embedded_graphics_core::pixelcolor::raw::RawU16::new(crate::texture::modulate565_white(
+            texel, light,
+        )))
+    }
 }
 
 impl FrameColor for Gray8 {
@@ -171,6 +184,10 @@ impl FrameColor for Rgb565Be {
     #[inline(always)]
     fn from_lit_rgb565(texel: u16, light: [i32; 3]) -> Self {
         Rgb565Be(crate::texture::modulate565(texel, light).to_be_bytes())
+    }
+    #[inline(always)]
+    fn from_white_lit_rgb565(texel: u16, light: i32) -> Self {
+        Rgb565Be(crate::texture::modulate565_white(texel, light).to_be_bytes())
     }
     #[inline]
     fn to_rgb888(self) -> [u8; 3] {
@@ -229,6 +246,11 @@ pub trait DepthValue: Copy + PartialOrd {
     const FAR: Self;
     /// The stored form of depth `z` (0..=2^30).
     fn from_z(z: u32) -> Self;
+    /// Whether depth `z` (0..=2^30) passes the LEQUAL test against `stored`.
+    #[inline(always)]
+    fn passes(z: u32, stored: Self) -> bool {
+        Self::from_z(z) <= stored
+    }
 }
 
 impl DepthValue for u16 {
@@ -236,6 +258,11 @@ impl DepthValue for u16 {
     #[inline(always)]
     fn from_z(z: u32) -> Self {
         z_to_u16(z)
+    }
+    /// Compared as `u32`, so that the saturated depth needs no narrowing first.
+    #[inline(always)]
+    fn passes(z: u32, stored: Self) -> bool {
+        z_to_u16_wide(z) <= u32::from(stored)
     }
 }
 
@@ -250,7 +277,7 @@ impl DepthValue for f32 {
 impl<T: DepthValue> DepthCell for &mut T {
     #[inline(always)]
     fn passes(&self, z: u32) -> bool {
-        T::from_z(z) <= **self
+        T::passes(z, **self)
     }
     #[inline(always)]
     fn store(&mut self, z: u32) {
@@ -278,9 +305,15 @@ impl<T: DepthValue> DepthBuffer for &mut [T] {
 
 #[inline(always)]
 fn z_to_u16(z: u32) -> u16 {
+    z_to_u16_wide(z) as u16
+}
+
+/// [`z_to_u16`] before narrowing: 0..=65535.
+#[inline(always)]
+fn z_to_u16_wide(z: u32) -> u32 {
     debug_assert!(z <= 1 << 30);
     // 2^30 (the far plane) saturates to 65535: one instruction (usat) on Cortex-M.
-    ((z as i32) >> 14).clamp(0, 0xffff) as u16
+    ((z as i32) >> 14).clamp(0, 0xffff) as u32
 }
 
 #[inline(always)]

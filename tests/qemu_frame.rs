@@ -48,11 +48,12 @@ fn reference_frame_covers_the_reference_pixel_count() {
     assert_eq!(covered, reference::COVERED_PIXELS as usize);
 }
 
-/// FNV-1a (64 bits) of the frames the firmware writes, recorded at commit `25acddd` (before the
-/// pipeline was split into stage modules): the QEMU frames must equal the host's rendering, and
-/// that rendering must not change unnoticed.
+/// FNV-1a (64 bits) of the frames the firmware writes, recorded when white light began to
+/// modulate RGB565 texels in one multiply (`texture::modulate565_white`, within one RGB565 step
+/// of the frames before): the QEMU frames must equal the host's rendering, and that rendering
+/// must not change unnoticed.
 const RECORDED_FRAMES: [(&str, u64); 2] =
-    [("qemu-frame-m4.rgb565", 0x9f40_f25b_95f0_709f), ("qemu-frame-m0.rgb565", 0x90ba_d2dc_9ebc_10b9)];
+    [("qemu-frame-m4.rgb565", 0x4a5e_410b_5322_beaf), ("qemu-frame-m0.rgb565", 0x08e3_03e3_d1d3_86bc)];
 
 /// FNV-1a (64 bits) of `bytes`.
 fn fnv1a(bytes: &[u8]) -> u64 {

@@ -19,6 +19,11 @@ use crate::texture::{modulate, Repeat565};
 pub(super) trait Lighting {
     /// Light per channel in 16.16 (1.0 = 65536) from the pixel's varyings.
     fn light<const V: usize>(&self, v: &[FDot16; V]) -> [FDot16; 3];
+    /// An RGB565 texel lit at the pixel with varyings `v`, in the frame's format.
+    #[inline(always)]
+    fn lit_rgb565<C: FrameColor, const V: usize>(&self, texel: u16, v: &[FDot16; V]) -> C {
+        C::from_lit_rgb565(texel, self.light(v))
+    }
     /// Whether [`Lighting::highlight`] can be other than black.
     const HIGHLIGHT: bool = false;
     /// Colour added after lighting (specular highlight), 0..=255 per channel.
@@ -45,6 +50,10 @@ impl Lighting for White {
     #[inline(always)]
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
         VertexLit::white(v)
+    }
+    #[inline(always)]
+    fn lit_rgb565<C: FrameColor, const V: usize>(&self, texel: u16, v: &[FDot16; V]) -> C {
+        C::from_white_lit_rgb565(texel, v[VertexLit::LIGHT])
     }
 }
 

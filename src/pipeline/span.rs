@@ -15,7 +15,8 @@
 
 use super::fragment::Lighting;
 use super::raster::{step_varyings, Span, SpanSink, WalkedRow, WalkedRows};
-use super::varyings::texel_coordinates;
+use super::varyings::{texel_coordinates, VertexLit};
+use crate::format::{decode_texel, TextureFormat};
 use crate::target::{BandArea, DepthBuffer, DepthCell, FrameColor};
 use crate::texture::{modulate, Repeat565, Sampler};
 
@@ -25,13 +26,22 @@ pub(super) trait Base: Copy {
     /// `fragment::fragments`): the fast bases of small targets, not the general sampler.
     const WALK_ROWS: bool = true;
 
-    /// The colour at texel coordinates `(u, v)`, or `None` for a cut-out texel.
+    /// Texel coordinate `v` and its step as this base's `base` and `lit` take them: once a run,
+    /// so a base can move per-pixel work to the run (see `Repeat565::scale_v`).
+    #[inline(always)]
+    fn run_v(&self, v: i32) -> i32 {
+        v
+    }
+
+    /// The colour at texel coordinates `(u, v)` (`v` as [`Base::run_v`] gives it), or `None` for
+    /// a cut-out texel.
     fn base(&self, u: i32, v: i32) -> Option<[u8; 3]>;
 
-    /// That colour lit by `light` (16.16 per channel) in the frame's format.
+    /// The colour at the pixel with varyings `v` lit by `lighting`, in the frame's format.
     #[inline(always)]
-    fn lit<C: FrameColor>(&self, u: i32, v: i32, light: [i32; 3]) -> Option<C> {
-        self.base(u, v).map(|rgb| C::from_rgb888(modulate(rgb, light)))
+    fn lit<C: FrameColor, Lt: Lighting, const V: usize>(&self, lighting: &Lt, v: &[i32; V]) -> Option<C> {
+        let (u, tv) = texel_coordinates(v);
+        self.base(u, tv).map(|rgb| C::from_rgb888(modulate(rgb, lighting.light(v))))
     }
 }
 
@@ -48,14 +58,21 @@ impl Base for Diffuse {
 
 impl Base for Repeat565<'_> {
     #[inline(always)]
+    fn run_v(&self, v: i32) -> i32 {
+        self.scale_v(v)
+    }
+
+    #[inline(always)]
     fn base(&self, u: i32, v: i32) -> Option<[u8; 3]> {
-        Some(self.sample(u, v))
+        let [r, g, b, _] = decode_texel(TextureFormat::Rgb565, &texel565(self, u, v).to_le_bytes());
+        Some([r, g, b])
     }
 
     /// Straight from the RGB565 texel (RGB565 frames never widen it to 8 bits).
     #[inline(always)]
-    fn lit<C: FrameColor>(&self, u: i32, v: i32, light: [i32; 3]) -> Option<C> {
-        Some(C::from_lit_rgb565(texel565(self, u, v), light))
+    fn lit<C: FrameColor, Lt: Lighting, const V: usize>(&self, lighting: &Lt, v: &[i32; V]) -> Option<C> {
+        let (u, tv) = texel_coordinates(v);
+        Some(lighting.lit_rgb565(texel565(self, u, tv), v))
     }
 }
 
@@ -105,9 +122,10 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> S
         let (Some(colors), Some(cells)) = (colors_of(self.color, start, len), self.depth.cells(start, len)) else {
             return;
         };
-        let (mut z, mut v) = (s.z, s.v);
         // By reference: copying it into the loop (once a run) costs more than its loads.
         let base = self.base;
+        let (mut z, mut v, mut dv) = (s.z, s.v, s.dv);
+        (v[VertexLit::V], dv[VertexLit::V]) = (base.run_v(v[VertexLit::V]), base.run_v(dv[VertexLit::V]));
         let (mut rejected, mut cut) = (0, 0);
         for (k, (px, mut cell)) in colors.iter_mut().zip(cells).enumerate() {
             if !cell.passes(z) {
@@ -121,7 +139,7 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> S
                 cut += 1;
             }
             z = z.wrapping_add_signed(s.dz);
-            step_varyings(&mut v, &s.dv);
+            step_varyings(&mut v, &dv);
         }
         self.written += s.len - rejected - cut;
         self.rejected += rejected;
@@ -155,14 +173,12 @@ fn lit_fragment<C: FrameColor, B: Base, Lt: Lighting, const V: usize, const DITH
     v: &[i32; V],
     (x, y): (i32, i32),
 ) -> Option<C> {
-    let light = lighting.light(v);
     if !DITHER && !Lt::HIGHLIGHT {
         // Straight to the frame's format (RGB565 stays RGB565).
-        let (u, tv) = texel_coordinates(v);
-        return base.lit(u, tv, light);
+        return base.lit(lighting, v);
     }
     let (u, tv) = texel_coordinates(v);
-    let rgb = modulate(base.base(u, tv)?, light);
+    let rgb = modulate(base.base(u, tv)?, lighting.light(v));
     let extra = lighting.highlight(v);
     let rgb: [u8; 3] = core::array::from_fn(|c| rgb[c].saturating_add(extra[c]));
     Some(if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) })
@@ -184,7 +200,8 @@ fn colors_of<C>(color: &mut [C], start: usize, len: usize) -> Option<&mut [C]> {
     }
 }
 
-/// The RGB565 texel at texel coordinates `(u, v)` (16.16) of a [`Repeat565`] texture.
+/// The RGB565 texel at texel coordinates `(u, v)` (16.16, `v` scaled by [`Repeat565::scale_v`])
+/// of a [`Repeat565`] texture.
 #[inline(always)]
 fn texel565(texture: &Repeat565<'_>, u: i32, v: i32) -> u16 {
     let (texels, i) = texture.texels_and_index(u, v);
@@ -193,7 +210,7 @@ fn texel565(texture: &Repeat565<'_>, u: i32, v: i32) -> u16 {
     #[cfg(not(feature = "checked-spans"))]
     let texel = {
         debug_assert!(i < texels.len());
-        // SAFETY: `Repeat565::texels_and_index` masks `i` with `texels.len() - 1`, and
+        // SAFETY: `Repeat565::texels_and_index` masks `i` with bits of `texels.len() - 1`, and
         // `Repeat565::new` made that length a power of two of at least 1 (width · height, both
         // powers of two), so `i < texels.len()`.
         unsafe { *texels.get_unchecked(i) }
