@@ -83,10 +83,15 @@ pub(crate) fn outcode(p: Vec4, guard: &GuardBand) -> u8 {
 /// test: for finite `x` and non-NaN `g`, `|x| > g` is `x < -g || g < x`.
 #[cfg_attr(soft_float, allow(dead_code))]
 fn outcode_by_floats(p: Vec4, guard: &GuardBand) -> u8 {
+    let [x, y, z, w] = p.to_array();
+    // The common case first: inside the view volume, so inside every plane (the guard band
+    // is >= 1) and finite (`|x| <= w < ∞`, false for NaN). Outcode 0.
+    if x.abs() <= w && y.abs() <= w && z.abs() <= w && w < f32::INFINITY {
+        return 0;
+    }
     if !p.is_finite() {
         return NOT_FINITE;
     }
-    let [x, y, z, w] = p.to_array();
     let view = [z < -w, w < z, x < -w, w < x, y < -w, w < y];
     let outside = view.iter().enumerate().fold(0, |code, (k, &out)| code | u8::from(out) << k);
     // Finite operands (and products that may overflow, but not to NaN): `a >= b` is `!(a < b)`.
