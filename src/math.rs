@@ -298,24 +298,40 @@ impl FixedTransform {
 }
 
 /// `x · 16`, the same bits as the float multiply: without an FPU, from the bits when that is
-/// exact (`times_16_bits`), as the multiply costs about 66 instructions there.
+/// exact ([`times_power_of_two`]), as the multiply costs about 66 instructions there.
 #[inline(always)]
 #[must_use]
 pub fn times_16(x: f32) -> f32 {
-    #[cfg(soft_float)]
-    if let Some(y) = times_16_bits(x) {
-        return y;
-    }
-    (F32(x) * F32(16.0)).0
+    times_power_of_two(x, 16.0)
 }
 
-/// `x · 16` for a normal `x` whose product is normal too (exponent field 1..=250): 4 added to
-/// the exponent, exactly the product. `None` otherwise (zeros, subnormals, overflow, NaN).
+/// `x · m`, the same bits as the float multiply; without an FPU, from the bits when `m` is a
+/// positive normal power of two and the product is exact (`times_pow2_bits`).
+#[inline(always)]
+#[must_use]
+pub fn times_power_of_two(x: f32, m: f32) -> f32 {
+    #[cfg(soft_float)]
+    {
+        // The sign bit makes a negative `m`'s exponent field over 255.
+        let (mb, e) = (m.to_bits(), (m.to_bits() >> 23) as i32);
+        if mb & 0x7f_ffff == 0 && (1..=254).contains(&e) {
+            if let Some(y) = times_pow2_bits(x, e - 127) {
+                return y;
+            }
+        }
+    }
+    (F32(x) * F32(m)).0
+}
+
+/// `x · 2^k` for a normal `x` whose product is normal too (exponent fields 1..=254): `k` added
+/// to the exponent, exactly the product. `None` otherwise (zeros, subnormals, overflow, NaN).
 #[cfg(any(soft_float, test))]
 #[inline(always)]
-fn times_16_bits(x: f32) -> Option<f32> {
+fn times_pow2_bits(x: f32, k: i32) -> Option<f32> {
     let b = x.to_bits();
-    (((b >> 23) & 0xff).wrapping_sub(1) < 250).then(|| f32::from_bits(b + (4 << 23)))
+    let e = ((b >> 23) & 0xff) as i32;
+    let normal = |e: i32| (1..=254).contains(&e);
+    (normal(e) && normal(e + k)).then(|| f32::from_bits(b.wrapping_add((k as u32) << 23)))
 }
 
 /// `(x as i32, whether a nonzero fraction was cut off)` from the bits of `x` alone: the
@@ -483,17 +499,26 @@ mod tests {
         while let Some(next) = bits.checked_add(0x3f_fff7) {
             for b in [bits, bits | 0x7f_ffff, bits & !0x7f_ffff] {
                 let x = f32::from_bits(b);
-                if let Some(y) = times_16_bits(x) {
+                if let Some(y) = times_pow2_bits(x, 4) {
                     assert_eq!(y.to_bits(), (x * 16.0).to_bits(), "{x:e}");
                     answered += 1;
                 }
                 assert_eq!(times_16(x).to_bits(), (x * 16.0).to_bits(), "{x:e}");
+                for (k, m) in [(-1, 0.5f32), (23, 8_388_608.0), (-30, 1.0 / 1_073_741_824.0)] {
+                    if let Some(y) = times_pow2_bits(x, k) {
+                        assert_eq!(y.to_bits(), (x * m).to_bits(), "{x:e} · 2^{k}");
+                    }
+                }
+                for m in [0.5f32, 8_388_608.0, 3.0, -2.0, 0.0, f32::INFINITY] {
+                    assert_eq!(times_power_of_two(x, m).to_bits(), (x * m).to_bits(), "{x:e} · {m}");
+                }
             }
             bits = next;
         }
-        assert!(times_16_bits(1.0).is_some() && times_16_bits(f32::from_bits(0x7d7f_ffff)).is_some());
+        assert!(times_pow2_bits(1.0, 4).is_some() && times_pow2_bits(f32::from_bits(0x7d7f_ffff), 4).is_some());
         assert!(
-            times_16_bits(f32::from_bits(0x7d80_0000)).is_none() && times_16_bits(f32::MIN_POSITIVE / 2.0).is_none()
+            times_pow2_bits(f32::from_bits(0x7d80_0000), 4).is_none()
+                && times_pow2_bits(f32::MIN_POSITIVE / 2.0, 4).is_none()
         );
         assert!(answered > 1000, "{answered}");
     }

@@ -335,6 +335,21 @@ impl Arrays<'_> {
     #[inline]
     #[must_use]
     pub fn triangle(&self, t: u32) -> [u32; 3] {
-        [self.index(3 * t), self.index(3 * t + 1), self.index(3 * t + 2)]
+        let k = 3 * t;
+        // One bounds check for the three (the per-triangle front end), when all are there.
+        let whole = match self.indices {
+            Indices::U16(x) => corners(x, k).map(|c| c.map(|r| u16::from_le_bytes(r) as u32)),
+            Indices::U32(x) => corners(x, k).map(|c| c.map(u32::from_le_bytes)),
+        };
+        whole.unwrap_or_else(|| [self.index(k), self.index(k + 1), self.index(k + 2)])
+    }
+}
+
+/// The three entries of `x` from `k` on, when all are there.
+#[inline(always)]
+fn corners<T: Copy>(x: &[T], k: u32) -> Option<[T; 3]> {
+    match x.get(k as usize..)? {
+        [a, b, c, ..] => Some([*a, *b, *c]),
+        _ => None,
     }
 }

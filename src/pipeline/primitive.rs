@@ -3,7 +3,9 @@
 //! triangles, and hand each to the fill (`fragment`) or to the wireframe and points (`line`).
 //! It does not transform or light vertices (`vertex` does) or walk pixels (`raster` does).
 
-use super::clip::{classify, cut, finite_varyings, ClipResult, ClipVertex, Polygon, MAX_CLIPPED, NEEDS_CLIP};
+use super::clip::{
+    classify, cut, finite_varyings, ClipResult, ClipVertex, Polygon, MAX_CLIPPED, NEEDS_CLIP, NOT_FINITE,
+};
 use super::fragment::fill;
 use super::line::{line, plot};
 use super::raster::{facing, facing_in_guard_band, in_guard_band, Reject, ScreenVertex};
@@ -63,8 +65,8 @@ enum Front {
 }
 
 /// Fetch, cull, light and classify triangle `t`: from the vertex cache when its corners are
-/// there and need nothing more (the common case), else transformed here ([`full_varyings`]).
-/// Not inlined: its temporaries leave the stack before the rasterizer runs.
+/// there and need nothing more (the common case, [`cached_front`]), else transformed here
+/// ([`full_varyings`]). Not inlined: its temporaries leave the stack before the rasterizer runs.
 #[inline(never)]
 fn front_end<const L: usize>(
     ctx: &Context<'_, L>,
@@ -75,36 +77,58 @@ fn front_end<const L: usize>(
 ) -> Front {
     let idx = s.arrays.triangle(t);
     // Cached corners whose triangle needs no clipping; else fresh ones.
-    let corners = match s.vertices.and_then(|cache| cached_corners(cache, &idx)) {
-        Some(p) if (p[0].outcode | p[1].outcode | p[2].outcode) & NEEDS_CLIP == 0 => Ok(p),
-        _ => Err(idx.map(|i| projected(ctx, s, i))),
-    };
-    let (xyw, codes) = match &corners {
-        Ok(p) => (p.map(|p| (i32::from(p.xy[0]), i32::from(p.xy[1]), p.inv_w)), p.map(|p| p.outcode)),
-        Err(p) => (p.map(|p| (p.x, p.y, p.inv_w)), p.map(|p| p.outcode)),
-    };
-    let class = classify(codes);
+    if let Some(p) = s.vertices.and_then(|cache| cached_corners(cache, &idx)) {
+        if (p[0].outcode | p[1].outcode | p[2].outcode) & (NEEDS_CLIP | NOT_FINITE) == 0 {
+            return cached_front(ctx, s, (&idx, p), surface, stats);
+        }
+    }
+    let p = idx.map(|i| projected(ctx, s, i));
+    let class = classify(p.map(|p| p.outcode));
     if class == ClipResult::Outside {
         stats.culled_frustum += 1;
         return Front::Done(TriangleRows::EMPTY);
     }
     let mut known = (None, None);
-    if w_ok(xyw.map(|p| p.2)) {
-        match cull(ctx, xyw, surface, stats) {
+    if w_ok(p.map(|p| p.inv_w)) {
+        let xy = p.map(|p| (p.x, p.y));
+        let facing = if in_guard_band(xy) {
+            facing_in_guard_band(xy, surface.material.cull_back_faces, surface.flip)
+        } else {
+            Err(Reject::OutsideGuardBand)
+        };
+        match cull(ctx, facing, xy.map(|p| p.1), stats) {
             Ok((area, rows)) => known = (area, Some(rows)),
             Err(rows) => return Front::Done(rows),
         }
     }
-    match corners {
-        Ok(p) => {
-            let light = match ctx.opts.shading {
-                Shading::Flat => flat_corner_lights(ctx, s, &idx),
-                _ => p.map(TransformedVertex::light),
-            };
-            Front::Inside(core::array::from_fn(|k| p[k].screen_vertex(light[k])), known)
-        }
-        Err(p) => full_varyings(ctx, s, (&idx, &p, class), known, surface, stats),
+    full_varyings(ctx, s, (&idx, &p, class), known, surface, stats)
+}
+
+/// [`front_end`] of a triangle whose corners `p` (indices `idx`) are cached, finite and need
+/// no clipping: the cache vouches that they are in the guard band with positive finite `1/w`s
+/// (see [`TransformedVertex::new`]), so only the view, facing and band tests remain.
+#[inline(always)]
+fn cached_front<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    (idx, p): (&[u32; 3], [&TransformedVertex; 3]),
+    surface: &Surface<'_, '_>,
+    stats: &mut Stats,
+) -> Front {
+    if classify(p.map(|p| p.outcode)) == ClipResult::Outside {
+        stats.culled_frustum += 1;
+        return Front::Done(TriangleRows::EMPTY);
     }
+    let xy = p.map(|p| (i32::from(p.xy[0]), i32::from(p.xy[1])));
+    let facing = facing_in_guard_band(xy, surface.material.cull_back_faces, surface.flip);
+    let known = match cull(ctx, facing, xy.map(|p| p.1), stats) {
+        Ok((area, rows)) => (area, Some(rows)),
+        Err(rows) => return Front::Done(rows),
+    };
+    // Not `p.map(..)`: an out-of-line call here.
+    let flat = (ctx.opts.shading == Shading::Flat).then(|| flat_corner_lights(ctx, s, idx));
+    let light = |k: usize| flat.map_or_else(|| p[k].light(), |l| l[k]);
+    Front::Inside(core::array::from_fn(|k| p[k].screen_vertex(light(k))), known)
 }
 
 /// Whether every corner's `1/w` is positive and finite: the triangle is wholly in front of the
@@ -115,24 +139,18 @@ fn w_ok(inv_w: [f32; 3]) -> bool {
 }
 
 /// The back-face and band tests of a triangle wholly in front of the eye, whose corners'
-/// snapped positions and `1/w` are `xyw`: its area (when the rasterizer will take it) and
-/// rows, or the rows to return when it is done here. Back faces are rejected before any
-/// lighting: projection keeps the winding, and the snapped positions are the ones the
-/// rasterizer gets, so the decision is the same one it would make.
+/// snapped positions have the y coordinates `ys` and whose [`facing`] (or why the rasterizer
+/// would refuse it) is `facing`: its area (when the rasterizer will take it) and rows, or the
+/// rows to return when it is done here. Back faces are rejected before any lighting:
+/// projection keeps the winding, and the snapped positions are the ones the rasterizer gets,
+/// so the decision is the same one it would make.
 #[inline(always)]
 fn cull<const L: usize>(
     ctx: &Context<'_, L>,
-    xyw: [(i32, i32, f32); 3],
-    surface: &Surface<'_, '_>,
+    facing: Result<i64, Reject>,
+    ys: [i32; 3],
     stats: &mut Stats,
 ) -> Result<(Option<i64>, TriangleRows), TriangleRows> {
-    // The caller found every `1/w` positive and finite.
-    let xy = xyw.map(|p| (p.0, p.1));
-    let facing = if in_guard_band(xy) {
-        facing_in_guard_band(xy, surface.material.cull_back_faces, surface.flip)
-    } else {
-        Err(Reject::OutsideGuardBand)
-    };
     let area = match facing {
         Err(Reject::BackFace) => {
             stats.culled_back_face += 1;
@@ -145,7 +163,6 @@ fn cull<const L: usize>(
     // Rows of the unclipped triangle: a superset of what clipping leaves. A triangle that
     // cannot touch this band is not lit, clipped or set up here (a row cache learns its rows
     // for the later bands).
-    let ys = xyw.map(|p| p.1);
     let rows = TriangleRows::of_ys(ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]), ctx.height);
     if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
         stats.outside_band += 1;

@@ -8,7 +8,7 @@ use core::ops::Range;
 use super::clip::NEEDS_CLIP;
 use super::vertex::{vertex_lit_varyings, Projected, VertexLight};
 use crate::fixed::{FDot16, FDot4};
-use crate::pipeline::raster::ScreenVertex;
+use crate::pipeline::raster::{ScreenVertex, MAX_EXTENT};
 
 /// Memory the caller lends [`Renderer::draw`](super::Renderer::draw), all of it optional:
 /// - rows ([`Scratch::with_rows`], 4 bytes a triangle counting instances): when a frame is drawn
@@ -221,6 +221,10 @@ impl Default for TransformedVertex {
     }
 }
 
+/// The bound on cached snapped coordinates (28.4): below half the rasterizer's extent, so that
+/// any two are less than [`MAX_EXTENT`] apart.
+const CACHED_COORD: u32 = (MAX_EXTENT / 2) as u32;
+
 /// The `1/w` of a vertex not transformed yet this frame: +0, so that the empty cache is all zero
 /// bytes (`.bss`, not flash).
 pub(crate) const UNKNOWN_INV_W: u32 = 0;
@@ -238,13 +242,22 @@ impl TransformedVertex {
     };
 
     /// The entry of a vertex projected to `p` with texel coordinates `texel` (f32, see
-    /// `vertex::texel`), not lit yet ([`Self::set_light`]).
+    /// `vertex::texel`), not lit yet ([`Self::set_light`]). Without `NEEDS_CLIP`, the entry
+    /// vouches for what the front end would otherwise test per triangle: any three such corners
+    /// are [`in_guard_band`](super::raster::in_guard_band) (each within half its extent of 0)
+    /// and have positive finite `1/w`s.
     #[inline(always)]
     pub(crate) fn new(p: Projected, texel: [f32; 2]) -> Self {
-        let xy = (i16::try_from(p.x), i16::try_from(p.y));
-        let fits = xy.0.is_ok() && xy.1.is_ok() && texel.iter().all(|t| t.is_finite());
+        let near = |c: FDot4| c.unsigned_abs() < CACHED_COORD;
+        // `&`, not `&&`: no branches.
+        let fits = near(p.x)
+            & near(p.y)
+            & crate::math::is_positive_finite(p.inv_w)
+            & texel[0].is_finite()
+            & texel[1].is_finite();
         TransformedVertex {
-            xy: [xy.0.unwrap_or(0), xy.1.unwrap_or(0)],
+            // Within `CACHED_COORD` < 2^15 when `fits` (else unused): the casts are exact.
+            xy: [p.x as i16, p.y as i16],
             z: p.z,
             inv_w: p.inv_w,
             texel: texel.map(crate::math::to_i32),

@@ -10,7 +10,7 @@ use super::scratch::{TransformedVertex, UNKNOWN_INV_W};
 use super::varyings::{ClipVaryings, PixelLit, ScreenVaryings, VertexLit, MAX_VARYINGS};
 use super::{Context, DrawSetup, Shading};
 use crate::fixed::{fdot4_floor, FDot16, FDot4, FDOT16_ONE};
-use crate::math::{normalize_or_zero, Vec3, Vec4, F32};
+use crate::math::{normalize_or_zero, times_power_of_two, Vec3, Vec4, F32};
 use crate::texture::Sampler;
 
 /// Light (red, green, blue) and specular intensity reaching a vertex, 0..=65535 for 0..=1
@@ -235,8 +235,9 @@ pub(crate) fn texel_scale(sampler: Option<&Sampler<'_>>) -> (f32, f32) {
 #[inline(always)]
 pub(crate) fn texel(s: &DrawSetup<'_>, i: u32, (width, height): (f32, f32)) -> [f32; 2] {
     let (uv, (o, sc)) = (s.arrays.uv_q(i), s.uv);
-    // In `F32`: once per vertex, but library calls without an FPU.
-    let at = |k: usize, size: f32| ((F32(o[k]) + F32::from(u32::from(uv[k])) * F32(sc[k])) * F32(size)).0;
+    // In `F32`: once per vertex, but library calls without an FPU (but for a power-of-two
+    // size, the usual texture).
+    let at = |k: usize, size: f32| times_power_of_two((F32(o[k]) + F32::from(u32::from(uv[k])) * F32(sc[k])).0, size);
     [at(0, width), at(1, height)]
 }
 
@@ -323,7 +324,7 @@ pub(crate) fn project(v: &ClipVertex, half: (f32, f32)) -> ScreenVertex {
 /// Depth (0..=1, near to far) of a clip-space point whose `1/w` is `inv_w`.
 #[inline]
 pub(crate) fn depth(clip: Vec4, inv_w: f32) -> f32 {
-    let z = (F32(clip.z) * F32(inv_w) + F32(1.0)) * F32(0.5);
+    let z = F32(times_power_of_two((F32(clip.z) * F32(inv_w) + F32(1.0)).0, 0.5));
     // `f32::clamp` in `F32` comparisons: NaN stays NaN.
     let z = if z < F32(0.0) { F32(0.0) } else { z };
     if z > F32(1.0) {
