@@ -90,6 +90,7 @@ impl Edge {
 }
 
 /// `floor(n / d)` for `d > 0`.
+#[cfg(any(no_hw_divide, test))]
 #[inline(always)]
 fn floor_div(n: i32, d: i32) -> i32 {
     debug_assert!(d > 0);
@@ -101,10 +102,17 @@ fn floor_div(n: i32, d: i32) -> i32 {
     }
 }
 
-/// `ceil(n / d)` for `d > 0`.
+/// The first pixel row or column whose centre (`16k + 8`) is at or after `p` (28.4):
+/// `ceil((p - 8) / 16)`, as a shift (`p` within the guard band, so `p + 7` fits).
 #[inline(always)]
-fn ceil_div(n: i32, d: i32) -> i32 {
-    -floor_div(-n, d)
+fn first_centre(p: i32) -> i32 {
+    (p + 7) >> 4
+}
+
+/// The last pixel row or column whose centre is at or before `p` (28.4): `floor((p - 8) / 16)`.
+#[inline(always)]
+fn last_centre(p: i32) -> i32 {
+    (p - 8) >> 4
 }
 
 /// A triangle ready to rasterize: edges, depth plane and varyings relative to the origin pixel.
@@ -230,16 +238,16 @@ impl<const V: usize> Setup<V> {
         let max_x = a.x.max(b.x).max(c.x);
         let min_y = a.y.min(b.y).min(c.y);
         let max_y = a.y.max(b.y).max(c.y);
-        let x0 = ceil_div(min_x - 8, 16).max(0);
-        let x1 = floor_div(max_x - 8, 16).min(win.width.saturating_sub(1));
-        let y0 = ceil_div(min_y - 8, 16).max(win.row_start.max(0));
-        let y1 = floor_div(max_y - 8, 16).min(win.row_end.saturating_sub(1));
+        let x0 = first_centre(min_x).max(0);
+        let x1 = last_centre(max_x).min(win.width.saturating_sub(1));
+        let y0 = first_centre(min_y).max(win.row_start.max(0));
+        let y1 = last_centre(max_y).min(win.row_end.saturating_sub(1));
         if x0 > x1 || y0 > y1 {
             return Err(Reject::Empty);
         }
         // The origin is the bounding box's first pixel centre *of the frame*, not of the band,
         // so that every interpolated value is the same whichever band draws the pixel.
-        let fy0 = ceil_div(min_y - 8, 16).max(0);
+        let fy0 = first_centre(min_y).max(0);
         let (ox, oy) = (x0 * 16 + 8, fy0 * 16 + 8);
         let edges = [Edge::new(b, c, ox, oy), Edge::new(c, a, ox, oy), Edge::new(a, b, ox, oy)];
 
@@ -273,7 +281,7 @@ impl<const V: usize> Setup<V> {
             y0,
             y1,
             origin_row: fy0,
-            rows_below: floor_div(max_y - 8, 16) - fy0,
+            rows_below: last_centre(max_y) - fy0,
             z_origin: to_fixed(z_at_origin),
             z_dx: to_fixed(gx * F32(16.0)),
             z_dy: to_fixed(gy * F32(16.0)),
