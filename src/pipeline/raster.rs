@@ -33,7 +33,7 @@ use super::varyings::ScreenVaryings;
 use crate::fixed::{
     depth40_to_30, fdot8_floor, fdot8_round, Depth30, Depth40, FDot16, FDot4, FDot8, DEPTH30_FAR, DEPTH40_ONE,
 };
-use crate::math::{max, min, mul_wide, wrapping_mul_small, F32};
+use crate::math::{max, min, wrapping_mul_small, F32};
 
 #[cfg(any(no_hw_divide, test))]
 mod divide;
@@ -137,8 +137,9 @@ pub struct Setup<const V: usize> {
     v0: [FDot16; V],
     d1: [F32; V],
     d2: [F32; V],
-    /// Twice the triangle's area in 1/256 pixel², positive.
-    area: i64,
+    /// Twice the triangle's area in 1/256 pixel², positive (exact: below 2^31, see
+    /// `facing_in_guard_band`, rounded to f32 as every use needs it).
+    area: F32,
     /// Affine varyings when allowed (see [`Setup::allow_affine`]).
     affine: Option<AffinePlanes<V>>,
     /// Four times the tolerance of each varying (0: no shortcut where `1/w` varies).
@@ -162,6 +163,9 @@ pub enum Reject {
 /// The largest extent of a triangle in 1/16 pixels: twice the guard band's half extent plus
 /// one pixel of slack, so that `A·dx + B·dy` over its bounding box fits in `i32`.
 pub const MAX_EXTENT: i32 = (2 * crate::target::GUARD_HALF_EXTENT as i32 + 1) * 16;
+
+// Twice the area of a triangle of that extent fits i32 (see `facing_in_guard_band`).
+const _: () = assert!((MAX_EXTENT as i64 - 1) * (MAX_EXTENT as i64 - 1) * 2 < 1 << 31);
 
 /// The largest absolute coordinate, in 1/16 pixels, the rasterizer accepts.
 pub const MAX_COORD: i32 = 1 << 24;
@@ -202,16 +206,17 @@ pub(crate) fn in_guard_band(p: [(i32, i32); 3]) -> bool {
 pub(crate) fn facing_in_guard_band(p: [(i32, i32); 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
     debug_assert!(in_guard_band(p));
     let [p0, p1, p2] = p;
-    // Coordinates are < 2^15 apart (in the guard band): exact products by `mul_wide` (32-bit
-    // multiplies without an FPU, where an i64 one is a library call).
-    let area = mul_wide(p1.0 - p0.0, p2.1 - p0.1) - mul_wide(p2.0 - p0.0, p1.1 - p0.1);
+    // Coordinates are less than `MAX_EXTENT` < 2^15 apart (in the guard band): each product is
+    // below 2^30 in magnitude and their difference below 2 · (MAX_EXTENT - 1)^2 < 2^31, so the
+    // area is exact in i32 (one multiply and one multiply-subtract).
+    let area = (p1.0 - p0.0) * (p2.1 - p0.1) - (p2.0 - p0.0) * (p1.1 - p0.1);
     if area == 0 {
         return Err(Reject::Degenerate);
     }
     if cull_back && (area < 0) == flip {
         return Err(Reject::BackFace);
     }
-    Ok(area)
+    Ok(area.into())
 }
 
 impl<const V: usize> Setup<V> {
@@ -229,9 +234,11 @@ impl<const V: usize> Setup<V> {
     #[inline(always)]
     pub(crate) fn with_area(tri: &[ScreenVertex; 3], win: &Window, area: i64) -> Result<Self, Reject> {
         let [p0, p1, p2] = tri;
+        // Within i32 for every triangle of the guard band (see `facing_in_guard_band`).
+        let area = i32::try_from(area).map_err(|_| Reject::OutsideGuardBand)?;
         // Reorder so the inside is E > 0 (positive image-space area).
         let (a, b, c) = if area > 0 { (p0, p1, p2) } else { (p0, p2, p1) };
-        let area = area.abs();
+        let af = F32::from(area.unsigned_abs());
 
         // Pixel rows/columns whose centres (16k + 8) lie inside the bounding box.
         let min_x = a.x.min(b.x).min(c.x);
@@ -253,7 +260,6 @@ impl<const V: usize> Setup<V> {
 
         // Depth plane from the three vertices (f32 setup, deterministic on every target; `F32`:
         // no soft-float library calls without an FPU).
-        let af = F32(crate::math::i64_to_f32(area));
         let (az, bz, cz) = (F32(a.z), F32(b.z), F32(c.z));
         let (dz1, dz2) = (bz - az, cz - az);
         let (ex1, ey1, ex2, ey2) =
@@ -289,7 +295,7 @@ impl<const V: usize> Setup<V> {
             v0,
             d1,
             d2,
-            area,
+            area: af,
             affine: None,
             tolerance: [0.0; V],
         })
@@ -561,11 +567,11 @@ impl<const V: usize> AffinePlanes<V> {
     /// gradients): those keep per-run exact values.
     fn new(
         edges: &[Edge; 3],
-        area: i64,
+        area: F32,
         (v0, d1, d2): (&[i32; V], &[F32; V], &[F32; V]),
         (width, height): (i32, i32),
     ) -> Option<Self> {
-        let inv_area = F32(1.0) / F32(crate::math::i64_to_f32(area));
+        let inv_area = F32(1.0) / area;
         let per_pixel = |c: i32| F32::from(c * 16) * inv_area;
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), F32::from(edges[1].c) * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), F32::from(edges[2].c) * inv_area);
