@@ -269,6 +269,8 @@ impl<const V: usize> Setup<V> {
         let z_at_origin = az + gx * F32::from(ox - a.x) + gy * F32::from(oy - a.y);
         let to_fixed = |v: F32| crate::math::f32_to_i64((v * F32(DEPTH40_ONE)).0);
 
+        // Divided by the largest, positive and finite (`facing`): that one becomes exactly 1,
+        // the others at most 1.
         let max_w = F32(max(max(a.inv_w, b.inv_w), c.inv_w));
         let norm = |q: f32| F32(q) / max_w;
 
@@ -355,12 +357,16 @@ impl<const V: usize> Setup<V> {
     /// With equal `1/w` everywhere (e.g. an orthographic camera) affine is exact and always used.
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
         let [q0, q1, q2] = self.inv_w.map(|q| q.0);
-        let (q_min, q_max) = (F32(min(min(q0, q1), q2)), F32(max(max(q0, q1), q2)));
-        let ratio = (q_max - q_min) / q_min;
+        // The largest normalised `1/w` is exactly 1 (see `with_area`).
+        let q_min = F32(min(min(q0, q1), q2));
+        let ratio = (F32(1.0) - q_min) / q_min;
         let four_times = |t: u32| F32(4.0) * F32::from(t);
         let within = (0..V).all(|k| {
+            // `max(d1, d2, 0) - min(d1, d2, 0)`, with one comparison less (no NaN: the
+            // differences come from integers).
             let (d1, d2) = (self.d1[k].0, self.d2[k].0);
-            let range = F32(max(max(d1, d2), 0.0)) - F32(min(min(d1, d2), 0.0));
+            let (hi, lo) = if F32(d1) > F32(d2) { (d1, d2) } else { (d2, d1) };
+            let range = F32(max(hi, 0.0)) - F32(min(lo, 0.0));
             range * ratio <= four_times(tolerance[k])
         });
         let extent = (self.x1 - self.x0, self.rows_below);
