@@ -33,7 +33,7 @@ use super::varyings::ScreenVaryings;
 use crate::fixed::{
     depth40_to_30, fdot8_floor, fdot8_round, Depth30, Depth40, FDot16, FDot4, FDot8, DEPTH30_FAR, DEPTH40_ONE,
 };
-use crate::math::{max, min, mul_wide, wrapping_mul_small, F32};
+use crate::math::{max, min, wrapping_mul_small, F32};
 
 #[cfg(any(no_hw_divide, test))]
 mod divide;
@@ -90,6 +90,7 @@ impl Edge {
 }
 
 /// `floor(n / d)` for `d > 0`.
+#[cfg(any(no_hw_divide, test))]
 #[inline(always)]
 fn floor_div(n: i32, d: i32) -> i32 {
     debug_assert!(d > 0);
@@ -101,10 +102,17 @@ fn floor_div(n: i32, d: i32) -> i32 {
     }
 }
 
-/// `ceil(n / d)` for `d > 0`.
+/// The first pixel row or column whose centre (`16k + 8`) is at or after `p` (28.4):
+/// `ceil((p - 8) / 16)`, as a shift (`p` within the guard band, so `p + 7` fits).
 #[inline(always)]
-fn ceil_div(n: i32, d: i32) -> i32 {
-    -floor_div(-n, d)
+fn first_centre(p: i32) -> i32 {
+    (p + 7) >> 4
+}
+
+/// The last pixel row or column whose centre is at or before `p` (28.4): `floor((p - 8) / 16)`.
+#[inline(always)]
+fn last_centre(p: i32) -> i32 {
+    (p - 8) >> 4
 }
 
 /// A triangle ready to rasterize: edges, depth plane and varyings relative to the origin pixel.
@@ -129,8 +137,9 @@ pub struct Setup<const V: usize> {
     v0: [FDot16; V],
     d1: [F32; V],
     d2: [F32; V],
-    /// Twice the triangle's area in 1/256 pixel², positive.
-    area: i64,
+    /// Twice the triangle's area in 1/256 pixel², positive (exact: below 2^31, see
+    /// `facing_in_guard_band`, rounded to f32 as every use needs it).
+    area: F32,
     /// Affine varyings when allowed (see [`Setup::allow_affine`]).
     affine: Option<AffinePlanes<V>>,
     /// Four times the tolerance of each varying (0: no shortcut where `1/w` varies).
@@ -154,6 +163,9 @@ pub enum Reject {
 /// The largest extent of a triangle in 1/16 pixels: twice the guard band's half extent plus
 /// one pixel of slack, so that `A·dx + B·dy` over its bounding box fits in `i32`.
 pub const MAX_EXTENT: i32 = (2 * crate::target::GUARD_HALF_EXTENT as i32 + 1) * 16;
+
+// Twice the area of a triangle of that extent fits i32 (see `facing_in_guard_band`).
+const _: () = assert!((MAX_EXTENT as i64 - 1) * (MAX_EXTENT as i64 - 1) * 2 < 1 << 31);
 
 /// The largest absolute coordinate, in 1/16 pixels, the rasterizer accepts.
 pub const MAX_COORD: i32 = 1 << 24;
@@ -194,16 +206,17 @@ pub(crate) fn in_guard_band(p: [(i32, i32); 3]) -> bool {
 pub(crate) fn facing_in_guard_band(p: [(i32, i32); 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
     debug_assert!(in_guard_band(p));
     let [p0, p1, p2] = p;
-    // Coordinates are < 2^15 apart (in the guard band): exact products by `mul_wide` (32-bit
-    // multiplies without an FPU, where an i64 one is a library call).
-    let area = mul_wide(p1.0 - p0.0, p2.1 - p0.1) - mul_wide(p2.0 - p0.0, p1.1 - p0.1);
+    // Coordinates are less than `MAX_EXTENT` < 2^15 apart (in the guard band): each product is
+    // below 2^30 in magnitude and their difference below 2 · (MAX_EXTENT - 1)^2 < 2^31, so the
+    // area is exact in i32 (one multiply and one multiply-subtract).
+    let area = (p1.0 - p0.0) * (p2.1 - p0.1) - (p2.0 - p0.0) * (p1.1 - p0.1);
     if area == 0 {
         return Err(Reject::Degenerate);
     }
     if cull_back && (area < 0) == flip {
         return Err(Reject::BackFace);
     }
-    Ok(area)
+    Ok(area.into())
 }
 
 impl<const V: usize> Setup<V> {
@@ -221,31 +234,32 @@ impl<const V: usize> Setup<V> {
     #[inline(always)]
     pub(crate) fn with_area(tri: &[ScreenVertex; 3], win: &Window, area: i64) -> Result<Self, Reject> {
         let [p0, p1, p2] = tri;
+        // Within i32 for every triangle of the guard band (see `facing_in_guard_band`).
+        let area = i32::try_from(area).map_err(|_| Reject::OutsideGuardBand)?;
         // Reorder so the inside is E > 0 (positive image-space area).
         let (a, b, c) = if area > 0 { (p0, p1, p2) } else { (p0, p2, p1) };
-        let area = area.abs();
+        let af = F32::from(area.unsigned_abs());
 
         // Pixel rows/columns whose centres (16k + 8) lie inside the bounding box.
         let min_x = a.x.min(b.x).min(c.x);
         let max_x = a.x.max(b.x).max(c.x);
         let min_y = a.y.min(b.y).min(c.y);
         let max_y = a.y.max(b.y).max(c.y);
-        let x0 = ceil_div(min_x - 8, 16).max(0);
-        let x1 = floor_div(max_x - 8, 16).min(win.width.saturating_sub(1));
-        let y0 = ceil_div(min_y - 8, 16).max(win.row_start.max(0));
-        let y1 = floor_div(max_y - 8, 16).min(win.row_end.saturating_sub(1));
+        let x0 = first_centre(min_x).max(0);
+        let x1 = last_centre(max_x).min(win.width.saturating_sub(1));
+        let y0 = first_centre(min_y).max(win.row_start.max(0));
+        let y1 = last_centre(max_y).min(win.row_end.saturating_sub(1));
         if x0 > x1 || y0 > y1 {
             return Err(Reject::Empty);
         }
         // The origin is the bounding box's first pixel centre *of the frame*, not of the band,
         // so that every interpolated value is the same whichever band draws the pixel.
-        let fy0 = ceil_div(min_y - 8, 16).max(0);
+        let fy0 = first_centre(min_y).max(0);
         let (ox, oy) = (x0 * 16 + 8, fy0 * 16 + 8);
         let edges = [Edge::new(b, c, ox, oy), Edge::new(c, a, ox, oy), Edge::new(a, b, ox, oy)];
 
         // Depth plane from the three vertices (f32 setup, deterministic on every target; `F32`:
         // no soft-float library calls without an FPU).
-        let af = F32(crate::math::i64_to_f32(area));
         let (az, bz, cz) = (F32(a.z), F32(b.z), F32(c.z));
         let (dz1, dz2) = (bz - az, cz - az);
         let (ex1, ey1, ex2, ey2) =
@@ -255,6 +269,8 @@ impl<const V: usize> Setup<V> {
         let z_at_origin = az + gx * F32::from(ox - a.x) + gy * F32::from(oy - a.y);
         let to_fixed = |v: F32| crate::math::f32_to_i64((v * F32(DEPTH40_ONE)).0);
 
+        // Divided by the largest, positive and finite (`facing`): that one becomes exactly 1,
+        // the others at most 1.
         let max_w = F32(max(max(a.inv_w, b.inv_w), c.inv_w));
         let norm = |q: f32| F32(q) / max_w;
 
@@ -273,7 +289,7 @@ impl<const V: usize> Setup<V> {
             y0,
             y1,
             origin_row: fy0,
-            rows_below: floor_div(max_y - 8, 16) - fy0,
+            rows_below: last_centre(max_y) - fy0,
             z_origin: to_fixed(z_at_origin),
             z_dx: to_fixed(gx * F32(16.0)),
             z_dy: to_fixed(gy * F32(16.0)),
@@ -281,7 +297,7 @@ impl<const V: usize> Setup<V> {
             v0,
             d1,
             d2,
-            area,
+            area: af,
             affine: None,
             tolerance: [0.0; V],
         })
@@ -341,12 +357,16 @@ impl<const V: usize> Setup<V> {
     /// With equal `1/w` everywhere (e.g. an orthographic camera) affine is exact and always used.
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
         let [q0, q1, q2] = self.inv_w.map(|q| q.0);
-        let (q_min, q_max) = (F32(min(min(q0, q1), q2)), F32(max(max(q0, q1), q2)));
-        let ratio = (q_max - q_min) / q_min;
+        // The largest normalised `1/w` is exactly 1 (see `with_area`).
+        let q_min = F32(min(min(q0, q1), q2));
+        let ratio = (F32(1.0) - q_min) / q_min;
         let four_times = |t: u32| F32(4.0) * F32::from(t);
         let within = (0..V).all(|k| {
+            // `max(d1, d2, 0) - min(d1, d2, 0)`, with one comparison less (no NaN: the
+            // differences come from integers).
             let (d1, d2) = (self.d1[k].0, self.d2[k].0);
-            let range = F32(max(max(d1, d2), 0.0)) - F32(min(min(d1, d2), 0.0));
+            let (hi, lo) = if F32(d1) > F32(d2) { (d1, d2) } else { (d2, d1) };
+            let range = F32(max(hi, 0.0)) - F32(min(lo, 0.0));
             range * ratio <= four_times(tolerance[k])
         });
         let extent = (self.x1 - self.x0, self.rows_below);
@@ -553,11 +573,11 @@ impl<const V: usize> AffinePlanes<V> {
     /// gradients): those keep per-run exact values.
     fn new(
         edges: &[Edge; 3],
-        area: i64,
+        area: F32,
         (v0, d1, d2): (&[i32; V], &[F32; V], &[F32; V]),
         (width, height): (i32, i32),
     ) -> Option<Self> {
-        let inv_area = F32(1.0) / F32(crate::math::i64_to_f32(area));
+        let inv_area = F32(1.0) / area;
         let per_pixel = |c: i32| F32::from(c * 16) * inv_area;
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), F32::from(edges[1].c) * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), F32::from(edges[2].c) * inv_area);

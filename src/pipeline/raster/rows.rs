@@ -23,11 +23,11 @@ impl<const V: usize> Setup<V> {
         if self.affine.is_none() && !adaptive {
             return None;
         }
-        let dz = self.safe_depth_step()?;
         // Gradients within i32 (all but the steepest triangles): the depth at a row's first
         // pixel is then two 32x32-bit multiply-accumulates (`smlal` on Cortex-M4; see
         // `math::mul_wide`, whose bound the box's rows and columns, below 2^11, meet).
         let (z_dx, z_dy) = (i32::try_from(self.z_dx).ok()?, i32::try_from(self.z_dy).ok()?);
+        let dz = self.safe_depth_step(z_dx, z_dy)?;
         Some(WalkedRows { setup: self, walk: self.row_walk(), y: self.y0, z_dx, z_dy, dz })
     }
 
@@ -53,29 +53,28 @@ impl<const V: usize> Setup<V> {
     }
 
     /// The per-pixel depth step in 2.30 when every run in the window steps within 0..=2^30
-    /// from its first pixel's depth, so that no run needs the test of [`Setup::emit`].
+    /// from its first pixel's depth, so that no run needs the test of [`Setup::emit`]; for
+    /// gradients `z_dx`, `z_dy` (24.40) within i32.
     ///
     /// A run of `len` pixels starting at depth `z` (24.40) steps to `(z >> 10) + dz·(len - 1)`
     /// with `dz = z_dx >> 10`: at most `z_last / 2^10` and above `z_last / 2^10 - len`, where
     /// `z_last` is the plane at its last pixel. The plane's extremes over the box are at its
     /// corners, so when every corner lies in `(width + 1)·2^10 ..= 2^40` (the box `width + 1`
     /// columns wide), every run starts and ends within 0..=2^30.
-    fn safe_depth_step(&self) -> Option<i32> {
-        let dz = i32::try_from(depth40_to_30(self.z_dx)).ok()?;
-        // Below 2^48 each, and with the box within the frame (at most `MAX_DIMENSION` < 2^11
-        // pixels each way), the products and sums below stay within 2^61: no checks needed. A plane beyond that
-        // (a needle triangle's) takes the checked path.
-        let small = |z: i64| z.unsigned_abs() < 1 << 48;
-        if !(small(self.z_origin) && small(self.z_dx) && small(self.z_dy)) {
+    fn safe_depth_step(&self, z_dx: i32, z_dy: i32) -> Option<i32> {
+        // With the origin below 2^48 and the box within the frame (at most `MAX_DIMENSION` <
+        // 2^11 pixels each way), the sums below stay within 2^49: no checks needed. A plane
+        // beyond that (a needle triangle's) takes the checked path.
+        if self.z_origin.unsigned_abs() >= 1 << 48 {
             return None;
         }
-        let (w, dy0, dy1) = ((self.x1 - self.x0) as i64, self.y0 - self.origin_row, self.y1 - self.origin_row);
+        let (w, dy0, dy1) = (self.x1 - self.x0, self.y0 - self.origin_row, self.y1 - self.origin_row);
         debug_assert!(w < 1 << 11 && (0..1 << 11).contains(&dy0) && dy1 < 1 << 11);
-        let top = self.z_origin + self.z_dy * dy0 as i64;
-        let bottom = self.z_origin + self.z_dy * dy1 as i64;
-        let across = self.z_dx * w;
-        let inside = |z: i64| ((w + 1) << 10..=1 << 40).contains(&z);
-        (inside(top) && inside(top + across) && inside(bottom) && inside(bottom + across)).then_some(dz)
+        let top = self.z_origin + mul_wide(z_dy, dy0);
+        let bottom = self.z_origin + mul_wide(z_dy, dy1);
+        let across = mul_wide(z_dx, w);
+        let inside = |z: i64| ((w as i64 + 1) << 10..=1 << 40).contains(&z);
+        (inside(top) && inside(top + across) && inside(bottom) && inside(bottom + across)).then_some(z_dx >> 10)
     }
 }
 
