@@ -336,6 +336,20 @@ pub fn offset_add(a: f32, b: f32) -> f32 {
     (F32(a) + F32(b)).0
 }
 
+/// `(n as f32) · b`, the same bits; without an FPU in one step ([`soft::mul_u16`]).
+#[inline(always)]
+#[must_use]
+pub fn u16_times(n: u16, b: f32) -> f32 {
+    #[cfg(soft_float)]
+    {
+        soft::mul_u16(n, b)
+    }
+    #[cfg(not(soft_float))]
+    {
+        (F32::from(u32::from(n)) * F32(b)).0
+    }
+}
+
 /// `+0 + b` from the bits: `b`, but for `b` = -0: +0 (round to nearest).
 #[cfg(any(soft_float, test))]
 #[inline(always)]

@@ -10,7 +10,7 @@ use super::scratch::{TransformedVertex, UNKNOWN_INV_W};
 use super::varyings::{ClipVaryings, PixelLit, ScreenVaryings, VertexLit, MAX_VARYINGS};
 use super::{Context, DrawSetup, Shading};
 use crate::fixed::{fdot4_floor, FDot16, FDot4, FDOT16_ONE};
-use crate::math::{normalize_or_zero, offset_add, times_power_of_two, FixedTransform, Vec3, Vec4, F32};
+use crate::math::{normalize_or_zero, offset_add, times_power_of_two, u16_times, FixedTransform, Vec3, Vec4, F32};
 use crate::texture::Sampler;
 
 /// Light (red, green, blue) and specular intensity reaching a vertex, 0..=65535 for 0..=1
@@ -281,8 +281,7 @@ pub(crate) fn texel(s: &DrawSetup<'_>, i: u32, (width, height): (f32, f32)) -> [
     let (uv, (o, sc)) = (s.arrays.uv_q(i), s.uv);
     // In `F32`: once per vertex, but library calls without an FPU (but for a power-of-two
     // size, the usual texture).
-    let at =
-        |k: usize, size: f32| times_power_of_two(offset_add(o[k], (F32::from(u32::from(uv[k])) * F32(sc[k])).0), size);
+    let at = |k: usize, size: f32| times_power_of_two(offset_add(o[k], u16_times(uv[k], sc[k])), size);
     [at(0, width), at(1, height)]
 }
 
