@@ -323,6 +323,40 @@ pub fn times_power_of_two(x: f32, m: f32) -> f32 {
     (F32(x) * F32(m)).0
 }
 
+/// `a + b`, the same bits as the float addition (NaN: some NaN); without an FPU, from `b`'s
+/// bits when `a` is +0 (the usual texel offset), as the addition costs about 70 instructions
+/// there.
+#[inline(always)]
+#[must_use]
+pub fn offset_add(a: f32, b: f32) -> f32 {
+    #[cfg(soft_float)]
+    if a.to_bits() == 0 {
+        return zero_plus(b);
+    }
+    (F32(a) + F32(b)).0
+}
+
+/// `(n as f32) · b`, the same bits; without an FPU in one step ([`soft::mul_u16`]).
+#[inline(always)]
+#[must_use]
+pub fn u16_times(n: u16, b: f32) -> f32 {
+    #[cfg(soft_float)]
+    {
+        soft::mul_u16(n, b)
+    }
+    #[cfg(not(soft_float))]
+    {
+        (F32::from(u32::from(n)) * F32(b)).0
+    }
+}
+
+/// `+0 + b` from the bits: `b`, but for `b` = -0: +0 (round to nearest).
+#[cfg(any(soft_float, test))]
+#[inline(always)]
+fn zero_plus(b: f32) -> f32 {
+    f32::from_bits(if b.to_bits() == 0x8000_0000 { 0 } else { b.to_bits() })
+}
+
 /// `x · 2^k` for a normal `x` whose product is normal too (exponent fields 1..=254): `k` added
 /// to the exponent, exactly the product. `None` otherwise (zeros, subnormals, overflow, NaN).
 #[cfg(any(soft_float, test))]
@@ -491,6 +525,21 @@ pub fn is_rotation(m: &Mat3) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `+0 + b` from the bits is the addition, for every non-NaN `b` (NaN: a NaN).
+    #[test]
+    fn zero_plus_from_the_bits_is_the_sum() {
+        let mut bits = 0u32;
+        while let Some(next) = bits.checked_add(0x7fff) {
+            for b in [bits, bits | 0x7f_ffff, bits & !0x7f_ffff, 0x8000_0000] {
+                let x = f32::from_bits(b);
+                let (sum, fast) = (0.0 + x, zero_plus(x));
+                assert!(sum.to_bits() == fast.to_bits() || sum.is_nan() && fast.is_nan(), "{x:e}");
+                assert!(offset_add(0.0, x).to_bits() == sum.to_bits() || sum.is_nan(), "{x:e}");
+            }
+            bits = next;
+        }
+    }
 
     /// Where it answers, exactly the multiply; it answers for every normal `x` below 2^124.
     #[test]

@@ -198,6 +198,25 @@ pub fn mul(a: f32, b: f32) -> f32 {
     f32::from_bits(bits)
 }
 
+/// `(n as f32) · b`, the conversion (exact) folded into the multiply: for a normal `b` and
+/// `n > 0`, `n`'s significand and exponent straight from its leading zeros.
+#[inline(always)]
+pub fn mul_u16(n: u16, b: f32) -> f32 {
+    let (n, bb) = (u32::from(n), b.to_bits());
+    if n == 0 || !is_normal(bb) {
+        return mul(from_u32(n), b);
+    }
+    // As `from_magnitude`: `n · 2^shift` has its leading one at bit 31, the float's exponent
+    // field is `158 - shift`, and its significand `n · 2^(shift - 8)`, nothing cut off.
+    let shift = leading_zeros(n);
+    f32::from_bits(mul_significands(
+        bb & SIGN,
+        158 - shift as i32 + exponent(bb) - 127,
+        n << (shift - 8),
+        significand(bb),
+    ))
+}
+
 /// `a · b` when either is zero, subnormal, infinite or NaN.
 #[cold]
 #[inline(never)]
@@ -486,6 +505,22 @@ mod tests {
 
     /// The division's reciprocal is below `2^39 / mb` by a relative 2^-20 to 2^-13 for every
     /// significand, which makes each quotient digit's estimate exact or one short.
+    /// `mul_u16` is the conversion and the multiply, for every `n` and a spread of `b`.
+    #[test]
+    fn mul_u16_is_convert_and_multiply() {
+        let mut bits = 0u32;
+        while let Some(next) = bits.checked_add(0x00ff_fff1) {
+            for b in [bits, bits | 0x7f_ffff, bits ^ 0x8000_0000] {
+                let b = f32::from_bits(b);
+                for n in (0..=u16::MAX).step_by(7).chain([1, 2, 3, 255, 256, u16::MAX]) {
+                    let (want, got) = (n as f32 * b, mul_u16(n, b));
+                    assert!(want.to_bits() == got.to_bits() || want.is_nan() && got.is_nan(), "{n} · {b:e}");
+                }
+            }
+            bits = next;
+        }
+    }
+
     #[test]
     fn reciprocal_is_close_and_below() {
         for mb in (1u32 << 23)..(1 << 24) {

@@ -10,7 +10,7 @@ use super::scratch::{TransformedVertex, UNKNOWN_INV_W};
 use super::varyings::{ClipVaryings, PixelLit, ScreenVaryings, VertexLit, MAX_VARYINGS};
 use super::{Context, DrawSetup, Shading};
 use crate::fixed::{fdot4_floor, FDot16, FDot4, FDOT16_ONE};
-use crate::math::{normalize_or_zero, times_power_of_two, Vec3, Vec4, F32};
+use crate::math::{normalize_or_zero, offset_add, times_power_of_two, u16_times, FixedTransform, Vec3, Vec4, F32};
 use crate::texture::Sampler;
 
 /// Light (red, green, blue) and specular intensity reaching a vertex, 0..=65535 for 0..=1
@@ -58,9 +58,21 @@ impl Projected {
 #[inline(always)]
 pub(crate) fn clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
     match &s.fixed {
-        Some((t, sphere)) => t.apply(s.arrays.position_int(i, *sphere)),
-        None => s.mvp * s.arrays.position_stored(i).extend(1.0),
+        Some(fixed) => fixed_clip_position(s, fixed, i),
+        None => float_clip_position(s, i),
     }
+}
+
+/// [`clip_position`] with the integer transform `t` and bounding sphere `sphere`.
+#[inline(always)]
+fn fixed_clip_position(s: &DrawSetup<'_>, (t, sphere): &(FixedTransform, (Vec3, f32)), i: u32) -> Vec4 {
+    t.apply(s.arrays.position_int(i, *sphere))
+}
+
+/// [`clip_position`] without the integer transform.
+#[inline(always)]
+fn float_clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
+    s.mvp * s.arrays.position_stored(i).extend(1.0)
 }
 
 /// Vertex `i` in world space.
@@ -89,6 +101,12 @@ pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'
         let [r, g, b] = lights.at(s.arrays.normal_q(i));
         return [r, g, b, 0];
     }
+    float_vertex_light(ctx, s, i)
+}
+
+/// [`vertex_light`] of a Gouraud-lit vertex without the integer lights.
+#[inline(always)]
+fn float_vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
     let n = world_normal(s, i);
     // Directional and hemispheric light need no position.
     let p = if ctx.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
@@ -110,14 +128,6 @@ fn specular<const L: usize>(ctx: &Context<'_, L>, p: Vec3, n: Vec3) -> f32 {
 
 /// The light of unlit corners (and of Phong's, which light per pixel instead): full white.
 const WHITE: VertexLight = [u16::MAX, u16::MAX, u16::MAX, 0];
-
-/// The light varyings of vertex `i`'s cache entry: the corner light of the shadings that light
-/// per vertex or not at all (zero for flat and Phong, which light otherwise), times its colour.
-#[inline(always)]
-fn cached_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
-    let light = if ctx.opts.shading == Shading::Unlit { WHITE } else { vertex_light(ctx, s, i) };
-    coloured_light(s, i, light)
-}
 
 /// Vertex `i` transformed and projected, not lit: for triangles drawn without the vertex cache.
 /// Not inlined: it runs for the rare triangles that need clipping, and for draws without a
@@ -150,11 +160,45 @@ pub(crate) fn fill_cache<const L: usize>(
     if cache.first().is_some_and(|v| v.inv_w.to_bits() != UNKNOWN_INV_W) {
         return;
     }
-    for (i, v) in (0u32..).zip(cache.iter_mut()) {
-        *v = TransformedVertex::new(Projected::new(ctx, clip_position(s, i)), texel(s, i, scale));
+    // One loop per case, its tests made once: the loops keep more of the matrices in registers.
+    match &s.fixed {
+        Some(fixed) => fill_positions(ctx, s, cache, scale, |i| fixed_clip_position(s, fixed, i)),
+        None => fill_positions(ctx, s, cache, scale, |i| float_clip_position(s, i)),
     }
+    match ctx.opts.shading {
+        Shading::Unlit => fill_light(cache, |i| coloured_light(s, i, WHITE)),
+        Shading::Gouraud => match &s.fixed_lights {
+            Some(lights) => fill_light(cache, |i| {
+                let [r, g, b] = lights.at(s.arrays.normal_q(i));
+                coloured_light(s, i, [r, g, b, 0])
+            }),
+            None => fill_light(cache, |i| coloured_light(s, i, float_vertex_light(ctx, s, i))),
+        },
+        Shading::Flat | Shading::Phong => fill_light(cache, |i| coloured_light(s, i, [0; 4])),
+    }
+}
+
+/// [`fill_cache`]'s positions, with `position` giving a vertex's clip-space position.
+#[inline(always)]
+fn fill_positions<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    cache: &mut [TransformedVertex],
+    scale: (f32, f32),
+    position: impl Fn(u32) -> Vec4,
+) {
     for (i, v) in (0u32..).zip(cache.iter_mut()) {
-        v.set_light(cached_light(ctx, s, i));
+        *v = TransformedVertex::new(Projected::new(ctx, position(i)), texel(s, i, scale));
+    }
+}
+
+/// [`fill_cache`]'s light varyings, with `light` giving a vertex's: the corner light of the
+/// shadings that light per vertex or not at all (zero for flat and Phong, which light
+/// otherwise), times its colour.
+#[inline(always)]
+fn fill_light(cache: &mut [TransformedVertex], light: impl Fn(u32) -> VertexLight) {
+    for (i, v) in (0u32..).zip(cache.iter_mut()) {
+        v.set_light(light(i));
     }
 }
 
@@ -237,7 +281,7 @@ pub(crate) fn texel(s: &DrawSetup<'_>, i: u32, (width, height): (f32, f32)) -> [
     let (uv, (o, sc)) = (s.arrays.uv_q(i), s.uv);
     // In `F32`: once per vertex, but library calls without an FPU (but for a power-of-two
     // size, the usual texture).
-    let at = |k: usize, size: f32| times_power_of_two((F32(o[k]) + F32::from(u32::from(uv[k])) * F32(sc[k])).0, size);
+    let at = |k: usize, size: f32| times_power_of_two(offset_add(o[k], u16_times(uv[k], sc[k])), size);
     [at(0, width), at(1, height)]
 }
 
