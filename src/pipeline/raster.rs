@@ -34,7 +34,7 @@ use super::varyings::ScreenVaryings;
 use crate::fixed::{
     depth40_to_30, fdot8_floor, fdot8_round, Depth30, Depth40, FDot16, FDot4, FDot8, DEPTH30_FAR, DEPTH40_ONE,
 };
-use crate::math::{max, min, wrapping_mul_small, F32};
+use crate::math::{max, wrapping_mul_small, F32};
 
 #[cfg(any(no_hw_divide, test))]
 mod divide;
@@ -318,7 +318,7 @@ impl<const V: usize> Setup<V> {
     /// In integers (see [`perspective`]): the same on every target, and no soft-float where
     /// there is no FPU.
     #[inline(always)]
-    fn varyings_at(&self, e: [i32; 3]) -> ([i32; V], u64) {
+    fn varyings_at(&self, e: [i32; 3]) -> ([i32; V], u32) {
         match perspective::weights(e, self.e_shift, &self.q) {
             Some((w, sum)) => {
                 (core::array::from_fn(|k| perspective::interpolate(self.v0[k], self.d1[k], self.d2[k], w)), sum)
@@ -331,7 +331,7 @@ impl<const V: usize> Setup<V> {
     /// at a segment's ends) stays within the tolerance: the same bound as for the whole
     /// triangle (see [`Setup::allow_affine`]), for a segment of one row.
     #[inline]
-    fn linear_within(&self, (a, qa): &([i32; V], u64), (b, qb): &([i32; V], u64)) -> bool {
+    fn linear_within(&self, (a, qa): &([i32; V], u32), (b, qb): &([i32; V], u32)) -> bool {
         let dv = core::array::from_fn(|k| b[k].wrapping_sub(a[k]));
         perspective::linear_within(dv, (*qa, *qb), &self.tolerance)
     }
@@ -349,22 +349,22 @@ impl<const V: usize> Setup<V> {
     /// one unit (of 2^-16) per pixel of a run, which the exact path has too for `subspan > 1`.
     /// With equal `1/w` everywhere (e.g. an orthographic camera) affine is exact and always used.
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
-        // The largest normalised `1/w` is exactly `1 << Q_BITS` (see `with_area`).
         let [q0, q1, q2] = self.q;
         let q_min = q0.min(q1).min(q2);
-        let ratio = F32::from((1u32 << Q_BITS) - q_min) / F32::from(q_min);
-        let (d1, d2) = (self.d1.map(F32::from), self.d2.map(F32::from));
-        let four_times = |t: u32| F32(4.0) * F32::from(t);
         let within = (0..V).all(|k| {
-            // `max(d1, d2, 0) - min(d1, d2, 0)`, with one comparison less (no NaN: the
-            // differences come from integers).
-            let (d1, d2) = (d1[k].0, d2[k].0);
-            let (hi, lo) = if F32(d1) > F32(d2) { (d1, d2) } else { (d2, d1) };
-            let range = F32(max(hi, 0.0)) - F32(min(lo, 0.0));
-            range * ratio <= four_times(tolerance[k])
+            // `max(d1, d2, 0) - min(d1, d2, 0)`: below 2^32, exact in u32.
+            let (d1, d2) = (self.d1[k], self.d2[k]);
+            let (hi, lo) = if d1 > d2 { (d1, d2) } else { (d2, d1) };
+            let range = hi.max(0).wrapping_sub(lo.min(0)) as u32;
+            perspective::affine_within(range, q_min, tolerance[k].saturating_mul(4))
         });
         let extent = (self.x1 - self.x0, self.rows_below);
-        self.affine = within.then(|| AffinePlanes::new(&self.edges, self.area, (&self.v0, &d1, &d2), extent)).flatten();
+        self.affine = within
+            .then(|| {
+                let (d1, d2) = (self.d1.map(F32::from), self.d2.map(F32::from));
+                AffinePlanes::new(&self.edges, self.area, (&self.v0, &d1, &d2), extent)
+            })
+            .flatten();
         self.tolerance = tolerance.map(|t| t.saturating_mul(4));
     }
 

@@ -98,10 +98,11 @@ pub(super) fn edge_shift(area: u32) -> u32 {
 
 /// The weights of vertices 1 and 2 (fractions of `2^WEIGHT_BITS`) where the edge functions are
 /// `e` (of a pixel inside the triangle; negative ones count as 0), shifted by `shift` (see
-/// [`edge_shift`]), and the `1/w`s `q`; and the sum `Σ e_k q_k` (proportional to the pixel's
-/// `1/w`). `None` where the sum's upper half is 0 (every edge function is 0: never inside).
+/// [`edge_shift`]), and the `1/w`s `q`; and the upper half of the sum `Σ e_k q_k` (proportional
+/// to the pixel's `1/w`, with at least 17 significant bits for a 1000:1 depth ratio). `None`
+/// where that is 0 (every edge function is 0: never inside).
 #[inline(always)]
-pub(super) fn weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2], u64)> {
+pub(super) fn weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2], u32)> {
     // Each below 2^32 · 2^31 and (inside the triangle) their sum too; wrapping outside.
     let n = |k: usize| mul_u32((e[k].max(0) as u32) << shift, q[k]);
     let (n1, n2) = (n(1), n(2));
@@ -111,12 +112,12 @@ pub(super) fn weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2]
         return None;
     }
     // Top bit at 63: 32 significant bits of each in its upper half, `n_k <= sum`.
-    let s = high.leading_zeros();
+    let s = leading_zeros(high);
     // `(n << s) >> 32` in halves, with no shift by 32 (`s` is below 32).
     let top = |n: u64| (((n >> 32) as u32) << s) | (((n as u32) >> 1) >> (31 - s));
     let inv = reciprocal(top(sum));
     let weight = |n: u64| (mul_u32(top(n), inv) >> 32) as i32;
-    Some(([weight(n1), weight(n2)], sum))
+    Some(([weight(n1), weight(n2)], high))
 }
 
 /// `v0 + d1 · w1 + d2 · w2` for weights `w` from [`weights`], wrapping: each product's upper
@@ -128,20 +129,53 @@ pub(super) fn interpolate(v0: i32, d1: i32, d2: i32, [w1, w2]: [i32; 2]) -> i32 
     v0.wrapping_add(high(d1, w1).wrapping_add(high(d2, w2)) << (32 - WEIGHT_BITS))
 }
 
+/// Whether `range · (1/q_min - 1) <= four_tolerance` for the smallest of a triangle's `1/w`s,
+/// `q_min` (the largest being 1): see `Setup::allow_affine`. Exact.
+#[inline(always)]
+pub(super) fn affine_within(range: u32, q_min: u32, four_tolerance: u32) -> bool {
+    // `1 << Q_BITS` is 1.
+    mul_u32(range, (1 << Q_BITS) - q_min) <= mul_u32(four_tolerance, q_min)
+}
+
 /// Whether `|dv| · (max(qa, qb) / min(qa, qb) - 1) <= four_tolerance` for every varying, with
 /// `dv` the differences between a segment's ends and `qa`, `qb` the sums of [`weights`] there;
-/// rounded towards refusing (false where either is 0).
+/// rounded towards refusing: the sums' upper halves truncate them, so their difference is
+/// taken one larger (false where either is 0).
 #[inline(always)]
-pub(super) fn linear_within<const V: usize>(dv: [i32; V], (qa, qb): (u64, u64), four_tolerance: &[u32; V]) -> bool {
+pub(super) fn linear_within<const V: usize>(dv: [i32; V], (qa, qb): (u32, u32), four_tolerance: &[u32; V]) -> bool {
     let (lo, hi) = if qa < qb { (qa, qb) } else { (qb, qa) };
     if lo == 0 {
         return false;
     }
-    // Both to 32 bits, the larger's top bit at 31: the smaller rounded down, the difference up.
-    let shift = hi.leading_zeros();
-    let lo32 = ((lo << shift) >> 32) as u32;
-    let diff32 = ((((hi - lo) << shift) >> 32) as u32).saturating_add(1);
-    (0..V).all(|k| mul_u32(dv[k].unsigned_abs(), diff32) <= mul_u32(four_tolerance[k], lo32))
+    let diff = (hi - lo).saturating_add(1);
+    (0..V).all(|k| mul_u32(dv[k].unsigned_abs(), diff) <= mul_u32(four_tolerance[k], lo))
+}
+
+/// `x.leading_zeros()` for `x > 0`, with no library call (see [`leading_zeros_searched`]).
+#[inline(always)]
+fn leading_zeros(x: u32) -> u32 {
+    #[cfg(any(no_hw_divide, target_arch = "riscv32"))]
+    {
+        leading_zeros_searched(x)
+    }
+    #[cfg(not(any(no_hw_divide, target_arch = "riscv32")))]
+    {
+        x.leading_zeros()
+    }
+}
+
+/// `x.leading_zeros()` for `x > 0` by a binary search, where there is no instruction for it
+/// (Armv6-M, RISC-V without `Zbb`: there it is a library call).
+#[cfg(any(no_hw_divide, target_arch = "riscv32", test))]
+#[inline(always)]
+fn leading_zeros_searched(x: u32) -> u32 {
+    let (mut x, mut n) = (x, 0);
+    for bits in [16, 8, 4, 2, 1] {
+        if x < 1 << (32 - bits) {
+            (x, n) = (x << bits, n + bits);
+        }
+    }
+    n
 }
 
 #[cfg(test)]
@@ -159,6 +193,8 @@ mod tests {
         for _ in 0..100_000 {
             let (a, b) = (next(), next());
             assert_eq!(mul_u32(a, b), a as u64 * b as u64);
+            let x = a >> (b % 32) | 1;
+            assert_eq!(leading_zeros_searched(x), x.leading_zeros());
             let (a, b) = (a as i32, b as i32);
             assert_eq!(mul_i32(a, b), a as i64 * b as i64);
             let d = next() | 1 << 31;
@@ -269,8 +305,8 @@ mod tests {
         let mut rng = Lcg(0xda3e_39cb_94b9_5bdb);
         let mut allowed = 0;
         for _ in 0..200_000 {
-            let qa = (rng.next() as u64) << rng.below(31) | rng.next() as u64;
-            let qb = (qa as f64 * (1.0 + rng.unit() * [1e-6, 1e-3, 1e-1, 10.0][rng.below(4) as usize])) as u64;
+            let qa = rng.next() >> rng.below(32);
+            let qb = (qa as f64 * (1.0 + rng.unit() * [1e-6, 1e-3, 1e-1, 10.0][rng.below(4) as usize])) as u32;
             let dv = [rng.next() as i32 >> rng.below(32), rng.next() as i32 >> rng.below(32)];
             let tolerance = [1 << rng.below(20), 1 << rng.below(20)];
             if linear_within(dv, (qa, qb), &tolerance) {
