@@ -15,9 +15,10 @@
 //! - Depth is affine in screen space and interpolated from a plane in 24.40 fixed point
 //!   (`i64`); it reaches the depth buffer as 0..=2^30.
 //! - Varyings (texture coordinates, light, normals) are `i32` with 16 fractional bits,
-//!   interpolated with perspective-correct barycentrics `b_i = (E_i/w_i) / Σ(E_j/w_j)` (in f32,
-//!   whose basic operations round alike on every target) computed exactly every `subspan`
-//!   pixels along a span and linearly in between (`subspan = 1`: every pixel exact), or, within
+//!   interpolated with perspective-correct barycentrics `b_i = (E_i/w_i) / Σ(E_j/w_j)` (in
+//!   integers, alike on every target and without soft-float: see `perspective`) computed
+//!   exactly every `subspan` pixels along a span and linearly in between (`subspan = 1`: every
+//!   pixel exact), or, within
 //!   a chosen tolerance ([`Setup::allow_affine`]), from one affine plane per varying (the whole
 //!   triangle) or exactly at the ends of runs as long as the tolerance allows (`subspan = 1`).
 //! - Pixels reach the shader as runs ([`Span`]s): a run of pixels on one row with a first value
@@ -33,12 +34,14 @@ use super::varyings::ScreenVaryings;
 use crate::fixed::{
     depth40_to_30, fdot8_floor, fdot8_round, Depth30, Depth40, FDot16, FDot4, FDot8, DEPTH30_FAR, DEPTH40_ONE,
 };
-use crate::math::{max, min, wrapping_mul_small, F32};
+use crate::math::{max, wrapping_mul_small, F32};
 
 #[cfg(any(no_hw_divide, test))]
 mod divide;
+mod perspective;
 mod rows;
 mod walk;
+use perspective::{Q_BITS, Q_MIN};
 pub(crate) use rows::{WalkedRow, WalkedRows};
 use walk::RowWalk;
 
@@ -131,19 +134,22 @@ pub struct Setup<const V: usize> {
     z_origin: Depth40,
     z_dx: Depth40,
     z_dy: Depth40,
-    /// 1/w of each vertex divided by the largest (so in (0, 1]).
-    inv_w: [F32; 3],
-    /// Varyings at vertex 0 and their differences to vertices 1 and 2.
+    /// 1/w of each vertex divided by the largest, in `Q_BITS` fixed point (so in
+    /// `Q_MIN..=1 << Q_BITS`, the largest exactly `1 << Q_BITS`).
+    q: [u32; 3],
+    /// The left shift of edge functions for [`perspective::weights`].
+    e_shift: u32,
+    /// Varyings at vertex 0 and their differences to vertices 1 and 2 (wrapping).
     v0: [FDot16; V],
-    d1: [F32; V],
-    d2: [F32; V],
+    d1: [i32; V],
+    d2: [i32; V],
     /// Twice the triangle's area in 1/256 pixel², positive (exact: below 2^31, see
     /// `facing_in_guard_band`, rounded to f32 as every use needs it).
     area: F32,
     /// Affine varyings when allowed (see [`Setup::allow_affine`]).
     affine: Option<AffinePlanes<V>>,
-    /// Four times the tolerance of each varying (0: no shortcut where `1/w` varies).
-    tolerance: [f32; V],
+    /// Four times the tolerance of each varying, saturated (0: no shortcut where `1/w` varies).
+    tolerance: [u32; V],
 }
 
 /// Result of [`Setup::new`] when nothing is to be drawn.
@@ -269,19 +275,15 @@ impl<const V: usize> Setup<V> {
         let z_at_origin = az + gx * F32::from(ox - a.x) + gy * F32::from(oy - a.y);
         let to_fixed = |v: F32| crate::math::f32_to_i64((v * F32(DEPTH40_ONE)).0);
 
-        // Divided by the largest, positive and finite (`facing`): that one becomes exactly 1,
-        // the others at most 1.
+        // Divided by the largest, positive and finite (`facing`): that one becomes exactly
+        // `1 << Q_BITS`, the others at most that (and at least `Q_MIN`).
         let max_w = F32(max(max(a.inv_w, b.inv_w), c.inv_w));
-        let norm = |q: f32| F32(q) / max_w;
+        let one = F32((1u32 << Q_BITS) as f32);
+        let norm = |q: f32| crate::math::f32_to_i64(((F32(q) / max_w) * one).0).clamp(Q_MIN.into(), 1 << Q_BITS) as u32;
 
-        let mut v0 = [0; V];
-        let mut d1 = [F32(0.0); V];
-        let mut d2 = [F32(0.0); V];
-        for k in 0..V {
-            v0[k] = a.varyings[k];
-            d1[k] = F32::from(b.varyings[k].wrapping_sub(a.varyings[k]));
-            d2[k] = F32::from(c.varyings[k].wrapping_sub(a.varyings[k]));
-        }
+        let v0 = core::array::from_fn(|k| a.varyings[k]);
+        let d1 = core::array::from_fn(|k| b.varyings[k].wrapping_sub(a.varyings[k]));
+        let d2 = core::array::from_fn(|k| c.varyings[k].wrapping_sub(a.varyings[k]));
         Ok(Setup {
             edges,
             x0,
@@ -293,13 +295,14 @@ impl<const V: usize> Setup<V> {
             z_origin: to_fixed(z_at_origin),
             z_dx: to_fixed(gx * F32(16.0)),
             z_dy: to_fixed(gy * F32(16.0)),
-            inv_w: [norm(a.inv_w), norm(b.inv_w), norm(c.inv_w)],
+            q: [norm(a.inv_w), norm(b.inv_w), norm(c.inv_w)],
+            e_shift: perspective::edge_shift(area.unsigned_abs()),
             v0,
             d1,
             d2,
             area: af,
             affine: None,
-            tolerance: [0.0; V],
+            tolerance: [0; V],
         })
     }
 
@@ -309,38 +312,28 @@ impl<const V: usize> Setup<V> {
         (self.y0, self.y1)
     }
 
-    /// Perspective-correct varyings where the edge functions are `e` (all >= 0), and
-    /// `Σ E_k/w_k` there (proportional to the pixel's `1/w`).
+    /// Perspective-correct varyings where the edge functions are `e` (negative ones count as
+    /// 0), and `Σ E_k/w_k` there (proportional to the pixel's `1/w`, 0 where every `E_k` is).
     ///
-    /// In f32, whose basic operations round the same on every target: the weights
-    /// `E_k · (1/w_k)` keep full relative precision however much the near vertex is magnified
-    /// by a large depth ratio, and one division serves every varying.
+    /// In integers (see [`perspective`]): the same on every target, and no soft-float where
+    /// there is no FPU.
     #[inline(always)]
-    fn varyings_at(&self, e: [i32; 3]) -> ([i32; V], f32) {
-        // Non-negative, so converted as unsigned (the same value, a shorter conversion).
-        let n = |k: usize| F32::from(e[k].max(0) as u32) * self.inv_w[k];
-        let (n1, n2) = (n(1), n(2));
-        let sum = n(0) + n1 + n2;
-        let mut out = self.v0;
-        // Zero only where every edge function is (never inside a triangle).
-        if sum <= F32(0.0) {
-            return (out, 0.0);
+    fn varyings_at(&self, e: [i32; 3]) -> ([i32; V], u32) {
+        match perspective::weights(e, self.e_shift, &self.q) {
+            Some((w, sum)) => {
+                (core::array::from_fn(|k| perspective::interpolate(self.v0[k], self.d1[k], self.d2[k], w)), sum)
+            }
+            None => (self.v0, 0),
         }
-        let inv = F32(1.0) / sum;
-        let (b1, b2) = (n1 * inv, n2 * inv);
-        for ((o, d1), d2) in out.iter_mut().zip(self.d1).zip(self.d2) {
-            *o = o.wrapping_add((d1 * b1 + d2 * b2).to_i32());
-        }
-        (out, sum.0)
     }
 
     /// Whether stepping linearly from `(a, qa)` to `(b, qb)` (exact varyings and `1/w` weights
     /// at a segment's ends) stays within the tolerance: the same bound as for the whole
     /// triangle (see [`Setup::allow_affine`]), for a segment of one row.
     #[inline]
-    fn linear_within(&self, (a, qa): &([i32; V], f32), (b, qb): &([i32; V], f32)) -> bool {
-        let ratio = (F32(*qa) - F32(*qb)).abs() / F32(min(*qa, *qb));
-        (0..V).all(|k| F32::from(b[k].wrapping_sub(a[k])).abs() * ratio <= F32(self.tolerance[k]))
+    fn linear_within(&self, (a, qa): &([i32; V], u32), (b, qb): &([i32; V], u32)) -> bool {
+        let dv = core::array::from_fn(|k| b[k].wrapping_sub(a[k]));
+        perspective::linear_within(dv, (*qa, *qb), &self.tolerance)
     }
 
     /// Allows affine (screen-linear) varyings when that is provably within `tolerance[k]`
@@ -356,23 +349,23 @@ impl<const V: usize> Setup<V> {
     /// one unit (of 2^-16) per pixel of a run, which the exact path has too for `subspan > 1`.
     /// With equal `1/w` everywhere (e.g. an orthographic camera) affine is exact and always used.
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
-        let [q0, q1, q2] = self.inv_w.map(|q| q.0);
-        // The largest normalised `1/w` is exactly 1 (see `with_area`).
-        let q_min = F32(min(min(q0, q1), q2));
-        let ratio = (F32(1.0) - q_min) / q_min;
-        let four_times = |t: u32| F32(4.0) * F32::from(t);
+        let [q0, q1, q2] = self.q;
+        let q_min = q0.min(q1).min(q2);
         let within = (0..V).all(|k| {
-            // `max(d1, d2, 0) - min(d1, d2, 0)`, with one comparison less (no NaN: the
-            // differences come from integers).
-            let (d1, d2) = (self.d1[k].0, self.d2[k].0);
-            let (hi, lo) = if F32(d1) > F32(d2) { (d1, d2) } else { (d2, d1) };
-            let range = F32(max(hi, 0.0)) - F32(min(lo, 0.0));
-            range * ratio <= four_times(tolerance[k])
+            // `max(d1, d2, 0) - min(d1, d2, 0)`: below 2^32, exact in u32.
+            let (d1, d2) = (self.d1[k], self.d2[k]);
+            let (hi, lo) = if d1 > d2 { (d1, d2) } else { (d2, d1) };
+            let range = hi.max(0).wrapping_sub(lo.min(0)) as u32;
+            perspective::affine_within(range, q_min, tolerance[k].saturating_mul(4))
         });
         let extent = (self.x1 - self.x0, self.rows_below);
-        self.affine =
-            within.then(|| AffinePlanes::new(&self.edges, self.area, (&self.v0, &self.d1, &self.d2), extent)).flatten();
-        self.tolerance = tolerance.map(|t| four_times(t).0);
+        self.affine = within
+            .then(|| {
+                let (d1, d2) = (self.d1.map(F32::from), self.d2.map(F32::from));
+                AffinePlanes::new(&self.edges, self.area, (&self.v0, &d1, &d2), extent)
+            })
+            .flatten();
+        self.tolerance = tolerance.map(|t| t.saturating_mul(4));
     }
 
     /// Whether varyings are interpolated affinely (see [`Setup::allow_affine`]).
@@ -447,7 +440,7 @@ impl<const V: usize> Setup<V> {
         });
         let e_at = |x: i32| -> [i32; 3] { core::array::from_fn(|k| e[k] + self.edges[k].a * 16 * (x - lo)) };
         let exact = |x: i32| self.varyings_at(e_at(x));
-        let adaptive = subspan == 1 && self.tolerance.iter().any(|&t| F32(t) > F32(0.0));
+        let adaptive = subspan == 1 && self.tolerance.iter().any(|&t| t > 0);
         let mut xs = lo;
         let mut start = exact(xs);
         // Adaptive: the next segment's length to try, from the last one that passed (per row

@@ -19,7 +19,7 @@ impl<const V: usize> Setup<V> {
     /// (see [`Setup::safe_depth_step`]); `None` otherwise (then [`Setup::for_each_span`]).
     #[inline(always)]
     pub(crate) fn walked_rows(&self, subspan: u32) -> Option<WalkedRows<'_, V>> {
-        let adaptive = subspan <= 1 && self.tolerance.iter().any(|&t| t > 0.0);
+        let adaptive = subspan <= 1 && self.tolerance.iter().any(|&t| t > 0);
         if self.affine.is_none() && !adaptive {
             return None;
         }

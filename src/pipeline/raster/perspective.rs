@@ -1,0 +1,325 @@
+//! Perspective-correct weights in integers: `b_k = E_k q_k / Σ E_j q_j` from the edge functions
+//! `E_k` and fixed-point `1/w`s `q_k`, with 64-bit products, a normalising shift and a
+//! reciprocal from a table plus two Newton steps. The same integers on every target; no float
+//! and no division, so FPU-less targets (thumbv6m, riscv32imc) run no soft-float per row.
+//!
+//! # Numbers
+//! - `q_k` has [`Q_BITS`] fractional bits, the largest exactly 1, the smallest at least
+//!   [`Q_MIN`] (a depth ratio beyond 2^19 counts as 2^19).
+//! - The edge functions are shifted left by a per-triangle amount that puts twice the area in
+//!   `2^31..2^32`: inside the triangle `Σ E_k` is at least a third of that, so the 64-bit sum
+//!   `Σ E_k q_k` is at least `2^29 · Q_MIN` and its upper half is never 0.
+//!
+//! # Precision
+//! A 1000:1 depth ratio leaves the smallest `q` 21 significant bits, a relative error of 2^-21
+//! that moves a weight by at most a quarter of that; the shifts, the reciprocal and the
+//! products each add about 2^-30. So a weight is within about 2^-22 of the exact one: a
+//! varying spanning 2^31 units (32,768 texels) is off by under 2^9 units (1/128 texel); see the
+//! test against f64 below.
+
+/// Fractional bits of the fixed-point `1/w`s (the largest is exactly `1 << Q_BITS`).
+pub(super) const Q_BITS: u32 = 31;
+
+/// The smallest fixed-point `1/w` (see the module's numbers).
+pub(super) const Q_MIN: u32 = 1 << 12;
+
+/// Fractional bits of a weight ([`weights`]).
+const WEIGHT_BITS: u32 = 30;
+
+/// `a · b` in full, from 16-bit halves where there is no widening multiply (Armv6-M, RISC-V
+/// without `m`: a 64-bit multiply there is a library call).
+#[inline(always)]
+pub(super) fn mul_u32(a: u32, b: u32) -> u64 {
+    #[cfg(no_hw_divide)]
+    {
+        let (ah, al, bh, bl) = (a >> 16, a & 0xffff, b >> 16, b & 0xffff);
+        let middle = u64::from(ah * bl) + u64::from(al * bh);
+        (u64::from(ah * bh) << 32) + (middle << 16) + u64::from(al * bl)
+    }
+    #[cfg(not(no_hw_divide))]
+    {
+        u64::from(a) * u64::from(b)
+    }
+}
+
+/// `a · b` in full, signed (see [`mul_u32`]).
+#[inline(always)]
+fn mul_i32(a: i32, b: i32) -> i64 {
+    #[cfg(no_hw_divide)]
+    {
+        // At most 2^62 in magnitude.
+        let p = mul_u32(a.unsigned_abs(), b.unsigned_abs()) as i64;
+        if (a ^ b) < 0 {
+            -p
+        } else {
+            p
+        }
+    }
+    #[cfg(not(no_hw_divide))]
+    {
+        i64::from(a) * i64::from(b)
+    }
+}
+
+/// `≈ 2^62 / d` for `d >= 2^31` (in `2^30..=2^31`), within about 2^-30 relative: an estimate
+/// good to 2^-8 from [`RECIPROCALS`], then two Newton steps `x (2 - d x)`, each squaring the
+/// error (and approaching from below: no overflow).
+#[inline(always)]
+fn reciprocal(d: u32) -> u32 {
+    debug_assert!(d >= 1 << 31);
+    let mut x = u32::from(RECIPROCALS[(d >> 24) as usize & 127]) << 15;
+    for _ in 0..2 {
+        // `d x` (2^30 for 1), then `2 - d x` (2^31 for 1).
+        let dx = (mul_u32(d, x) >> 32) as u32;
+        let e = (dx << 1).wrapping_neg();
+        x = (mul_u32(x, e) >> 31) as u32;
+    }
+    x
+}
+
+/// `2^39 / (2i + 257)` for `i` in `0..128`, `>> 15`: the reciprocal (`2^62 / d`, its upper 16
+/// bits) at the middle of the `i`th of the 128 intervals of `d >> 24` in `128..256`.
+const RECIPROCALS: [u16; 128] = {
+    let mut t = [0; 128];
+    let mut i = 0;
+    while i < 128 {
+        t[i] = (((1u64 << 39) / (2 * i as u64 + 257)) >> 15) as u16;
+        i += 1;
+    }
+    t
+};
+
+/// The shift for the edge functions of a triangle whose doubled area is `area` (> 0): see the
+/// module's numbers.
+#[inline(always)]
+pub(super) fn edge_shift(area: u32) -> u32 {
+    area.leading_zeros()
+}
+
+/// The weights of vertices 1 and 2 (fractions of `2^WEIGHT_BITS`) where the edge functions are
+/// `e` (of a pixel inside the triangle; negative ones count as 0), shifted by `shift` (see
+/// [`edge_shift`]), and the `1/w`s `q`; and the upper half of the sum `Σ e_k q_k` (proportional
+/// to the pixel's `1/w`, with at least 17 significant bits for a 1000:1 depth ratio). `None`
+/// where that is 0 (every edge function is 0: never inside).
+#[inline(always)]
+pub(super) fn weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2], u32)> {
+    // Each below 2^32 · 2^31 and (inside the triangle) their sum too; wrapping outside.
+    let n = |k: usize| mul_u32((e[k].max(0) as u32) << shift, q[k]);
+    let (n1, n2) = (n(1), n(2));
+    let sum = n(0).wrapping_add(n1).wrapping_add(n2);
+    let high = (sum >> 32) as u32;
+    if high == 0 {
+        return None;
+    }
+    // Top bit at 63: 32 significant bits of each in its upper half, `n_k <= sum`.
+    let s = leading_zeros(high);
+    // `(n << s) >> 32` in halves, with no shift by 32 (`s` is below 32).
+    let top = |n: u64| (((n >> 32) as u32) << s) | (((n as u32) >> 1) >> (31 - s));
+    let inv = reciprocal(top(sum));
+    let weight = |n: u64| (mul_u32(top(n), inv) >> 32) as i32;
+    Some(([weight(n1), weight(n2)], high))
+}
+
+/// `v0 + d1 · w1 + d2 · w2` for weights `w` from [`weights`], wrapping: each product's upper
+/// half (a single instruction on Cortex-M4), which drops under 2^-(32 - WEIGHT_BITS) units
+/// each (8 units of 2^-16 in all, far below a texel or a step of light).
+#[inline(always)]
+pub(super) fn interpolate(v0: i32, d1: i32, d2: i32, [w1, w2]: [i32; 2]) -> i32 {
+    let high = |d: i32, w: i32| (mul_i32(d, w) >> 32) as i32;
+    v0.wrapping_add(high(d1, w1).wrapping_add(high(d2, w2)) << (32 - WEIGHT_BITS))
+}
+
+/// Whether `range · (1/q_min - 1) <= four_tolerance` for the smallest of a triangle's `1/w`s,
+/// `q_min` (the largest being 1): see `Setup::allow_affine`. Exact.
+#[inline(always)]
+pub(super) fn affine_within(range: u32, q_min: u32, four_tolerance: u32) -> bool {
+    // `1 << Q_BITS` is 1.
+    mul_u32(range, (1 << Q_BITS) - q_min) <= mul_u32(four_tolerance, q_min)
+}
+
+/// Whether `|dv| · (max(qa, qb) / min(qa, qb) - 1) <= four_tolerance` for every varying, with
+/// `dv` the differences between a segment's ends and `qa`, `qb` the sums of [`weights`] there;
+/// rounded towards refusing: the sums' upper halves truncate them, so their difference is
+/// taken one larger (false where either is 0).
+#[inline(always)]
+pub(super) fn linear_within<const V: usize>(dv: [i32; V], (qa, qb): (u32, u32), four_tolerance: &[u32; V]) -> bool {
+    let (lo, hi) = if qa < qb { (qa, qb) } else { (qb, qa) };
+    if lo == 0 {
+        return false;
+    }
+    let diff = (hi - lo).saturating_add(1);
+    (0..V).all(|k| mul_u32(dv[k].unsigned_abs(), diff) <= mul_u32(four_tolerance[k], lo))
+}
+
+/// `x.leading_zeros()` for `x > 0`, with no library call (see [`leading_zeros_searched`]).
+#[inline(always)]
+fn leading_zeros(x: u32) -> u32 {
+    #[cfg(any(no_hw_divide, target_arch = "riscv32"))]
+    {
+        leading_zeros_searched(x)
+    }
+    #[cfg(not(any(no_hw_divide, target_arch = "riscv32")))]
+    {
+        x.leading_zeros()
+    }
+}
+
+/// `x.leading_zeros()` for `x > 0` by a binary search, where there is no instruction for it
+/// (Armv6-M, RISC-V without `Zbb`: there it is a library call).
+#[cfg(any(no_hw_divide, target_arch = "riscv32", test))]
+#[inline(always)]
+fn leading_zeros_searched(x: u32) -> u32 {
+    let (mut x, mut n) = (x, 0);
+    for bits in [16, 8, 4, 2, 1] {
+        if x < 1 << (32 - bits) {
+            (x, n) = (x << bits, n + bits);
+        }
+    }
+    n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{ScreenVertex, Setup, Window};
+    use super::*;
+
+    #[test]
+    fn multiplies_and_inverts() {
+        let mut seed = 0x2545_f491_u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 32) as u32
+        };
+        for _ in 0..100_000 {
+            let (a, b) = (next(), next());
+            assert_eq!(mul_u32(a, b), a as u64 * b as u64);
+            let x = a >> (b % 32) | 1;
+            assert_eq!(leading_zeros_searched(x), x.leading_zeros());
+            let (a, b) = (a as i32, b as i32);
+            assert_eq!(mul_i32(a, b), a as i64 * b as i64);
+            let d = next() | 1 << 31;
+            let exact = (1u128 << 62) as f64 / d as f64;
+            let x = reciprocal(d) as f64;
+            assert!((x - exact).abs() <= exact * 2f64.powi(-29), "1/{d}: {x} against {exact}");
+        }
+        for d in [1 << 31, (1 << 31) + 1, u32::MAX] {
+            let exact = (1u128 << 62) as f64 / d as f64;
+            assert!((reciprocal(d) as f64 - exact).abs() <= exact * 2f64.powi(-29), "1/{d}");
+        }
+    }
+
+    /// A small LCG: reproducible without a dependency.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn next(&mut self) -> u32 {
+            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 32) as u32
+        }
+
+        /// Uniform in `0..n`.
+        fn below(&mut self, n: u32) -> u32 {
+            self.next() % n
+        }
+
+        /// Uniform in `0..1`.
+        fn unit(&mut self) -> f64 {
+            self.next() as f64 / 2f64.powi(32)
+        }
+    }
+
+    /// A random triangle within `extent` pixels (28.4), with `1/w`s up to `ratio`:1 apart and
+    /// varyings 0, 1 (texels) spanning up to `texels` units and 2 (light) within 0..=1.
+    fn triangle(rng: &mut Lcg, extent: u32, ratio: f64, texels: u32) -> [ScreenVertex; 3] {
+        let scale = 2f64.powi(rng.below(40) as i32 - 20);
+        core::array::from_fn(|_| {
+            let mut varyings = [0; 8];
+            let base = rng.next() as i32;
+            varyings[0] = base.wrapping_add((rng.next() % texels.max(1)) as i32);
+            varyings[1] = ((rng.next() % texels.max(1)) as i32).wrapping_sub((texels / 2) as i32);
+            varyings[2] = rng.below((1 << 16) + 1) as i32;
+            ScreenVertex {
+                x: rng.below(extent * 16) as i32,
+                y: rng.below(extent * 16) as i32,
+                z: 0.5,
+                inv_w: (scale * ratio.powf(-rng.unit())) as f32,
+                varyings,
+            }
+        })
+    }
+
+    /// `varyings_at` against the perspective-correct value in f64 (the same edge functions, the
+    /// vertices' `1/w` as given), at both ends and the middle of every covered row of random
+    /// triangles: tiny to guard-band sized, depth ratios up to 1000:1, texel
+    /// coordinates spanning up to 2^31 units, light 0..=1. Texels stay within 1/64 texel
+    /// (2^10 units), light within 1/4096 (2^4 units): well inside the 1/16 texel and 1/256
+    /// light the pictures are allowed, with the linear steps' own tolerance on top.
+    #[test]
+    fn varyings_at_is_within_the_bound_of_the_exact_value() {
+        let mut rng = Lcg(0x853c_49e6_748f_ea9b);
+        let window = Window { width: 1 << 12, row_start: 0, row_end: 1 << 12 };
+        let (mut worst, mut pixels) = ([0i64; 3], 0);
+        for t in 0..6000 {
+            let extent = [1, 3, 40, 400, 1900][rng.below(5) as usize];
+            let ratio = [1.0, 1.5, 10.0, 1000.0, 1000.0][rng.below(5) as usize];
+            let texels = [1 << 12, 1 << 24, u32::MAX][rng.below(3) as usize];
+            let tri = triangle(&mut rng, extent, ratio, texels);
+            let Ok(setup) = Setup::<3>::new(&tri, &window, false, false) else { continue };
+            // The vertices in the set-up's order (reordered for a positive area).
+            let order =
+                if crate::pipeline::raster::facing(&tri, false, false).unwrap() > 0 { [0, 1, 2] } else { [0, 2, 1] };
+            let v = order.map(|i| tri[i]);
+            let stride = 1 + (setup.y1 - setup.y0) / 50;
+            for (_, dy, lo, hi) in setup.covered_rows().step_by(stride as usize) {
+                for x in [lo, (lo + hi) / 2, hi] {
+                    let e: [i32; 3] = core::array::from_fn(|k| {
+                        let edge = &setup.edges[k];
+                        edge.c + edge.b * 16 * dy + edge.a * 16 * x
+                    });
+                    let n: [f64; 3] = core::array::from_fn(|k| e[k].max(0) as f64 * v[k].inv_w as f64);
+                    let sum = n[0] + n[1] + n[2];
+                    let (got, _) = setup.varyings_at(e);
+                    for k in 0..3 {
+                        let d = |i: usize| v[i].varyings[k].wrapping_sub(v[0].varyings[k]) as f64;
+                        let exact = v[0].varyings[k] as f64 + (d(1) * n[1] + d(2) * n[2]) / sum;
+                        // The difference modulo 2^32 (varyings wrap).
+                        let error = (got[k] as i64 - exact.round() as i64) as i32 as i64;
+                        worst[k] = worst[k].max(error.abs());
+                        let bound = if k == 2 { 1 << 4 } else { 1 << 10 };
+                        assert!(
+                            error.abs() <= bound,
+                            "triangle {t} {tri:?}, row {dy} column {x}, varying {k}: {error}"
+                        );
+                    }
+                    pixels += 1;
+                }
+            }
+        }
+        assert!(pixels > 100_000, "{pixels} pixels");
+        std::println!("worst errors {worst:?} over {pixels} pixels");
+    }
+
+    /// `linear_within` never allows more than the exact bound (f64) does.
+    #[test]
+    fn linear_within_is_never_looser_than_the_exact_bound() {
+        let mut rng = Lcg(0xda3e_39cb_94b9_5bdb);
+        let mut allowed = 0;
+        for _ in 0..200_000 {
+            let qa = rng.next() >> rng.below(32);
+            let qb = (qa as f64 * (1.0 + rng.unit() * [1e-6, 1e-3, 1e-1, 10.0][rng.below(4) as usize])) as u32;
+            let dv = [rng.next() as i32 >> rng.below(32), rng.next() as i32 >> rng.below(32)];
+            let tolerance = [1 << rng.below(20), 1 << rng.below(20)];
+            if linear_within(dv, (qa, qb), &tolerance) {
+                allowed += 1;
+                let ratio = qa.max(qb) as f64 / qa.min(qb) as f64 - 1.0;
+                for k in 0..2 {
+                    assert!(
+                        dv[k].unsigned_abs() as f64 * ratio <= tolerance[k] as f64,
+                        "{dv:?} {qa} {qb} {tolerance:?}"
+                    );
+                }
+            }
+        }
+        assert!(allowed > 10_000, "{allowed}");
+    }
+}
