@@ -336,7 +336,7 @@ pub fn offset_add(a: f32, b: f32) -> f32 {
     (F32(a) + F32(b)).0
 }
 
-/// `(n as f32) · b`, the same bits; without an FPU in one step ([`soft::mul_u16`]).
+/// `(n as f32) · b`, the same bits; without an FPU in one step (`soft::mul_u16`).
 #[inline(always)]
 #[must_use]
 pub fn u16_times(n: u16, b: f32) -> f32 {

@@ -41,7 +41,7 @@ pub trait FrameColor: Copy {
     }
     /// An RGB565 texel lit by white `light` (16.16): [`FrameColor::from_lit_rgb565`] with the
     /// light on every channel. RGB565 formats override it with
-    /// [`modulate565_white`](crate::texture::modulate565_white) (within one step of that).
+    /// `texture::modulate565_white` (within one step of that).
     #[inline(always)]
     fn from_white_lit_rgb565(texel: u16, light: i32) -> Self {
         Self::from_lit_rgb565(texel, [light; 3])

@@ -142,7 +142,7 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     } else {
         LitBy::Vertex
     };
-    let raster = (&ctx.window, ctx.opts.subspan, lit.affine_tolerance_light());
+    let raster = (&ctx.window, ctx.opts.subspan, lit.affine_tolerance_light(), !ctx.opts.fixed_vertices);
     // One monomorphised loop per lighting (with its number of varyings) and dithering.
     macro_rules! with_dither {
         ($varyings:expr, $lighting:expr) => {
@@ -197,7 +197,7 @@ fn affine_tolerance<const V: usize>(other: u32) -> [u32; V] {
 #[inline(never)]
 fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
-    (window, subspan, tolerance): (&Window, u32, u32),
+    (window, subspan, tolerance, fpu): (&Window, u32, u32, bool),
     tri: &[ScreenVertex; 3],
     winding: Winding,
     base: &B,
@@ -209,6 +209,9 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         None => Setup::<V>::new(tri, window, winding.cull_back, winding.flip)?,
     };
     setup.allow_affine(affine_tolerance::<V>(tolerance));
+    if fpu {
+        setup.use_fpu_perspective();
+    }
     let mut shader = Shader::<C, D, B, Lt, DITHER> {
         area: band.area(),
         color: &mut *band.color,

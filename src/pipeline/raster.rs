@@ -16,9 +16,10 @@
 //!   (`i64`); it reaches the depth buffer as 0..=2^30.
 //! - Varyings (texture coordinates, light, normals) are `i32` with 16 fractional bits,
 //!   interpolated with perspective-correct barycentrics `b_i = (E_i/w_i) / Σ(E_j/w_j)` (in
-//!   integers, alike on every target and without soft-float: see `perspective`) computed
-//!   exactly every `subspan` pixels along a span and linearly in between (`subspan = 1`: every
-//!   pixel exact), or, within
+//!   integers, alike on every target and without soft-float: see `perspective`; or in f32,
+//!   whose basic operations round alike on every target, where an FPU makes that cheaper:
+//!   [`Setup::use_fpu_perspective`]) computed exactly every `subspan` pixels along a span and
+//!   linearly in between (`subspan = 1`: every pixel exact), or, within
 //!   a chosen tolerance ([`Setup::allow_affine`]), from one affine plane per varying (the whole
 //!   triangle) or exactly at the ends of runs as long as the tolerance allows (`subspan = 1`).
 //! - Pixels reach the shader as runs ([`Span`]s): a run of pixels on one row with a first value
@@ -34,7 +35,7 @@ use super::varyings::ScreenVaryings;
 use crate::fixed::{
     depth40_to_30, fdot8_floor, fdot8_round, Depth30, Depth40, FDot16, FDot4, FDot8, DEPTH30_FAR, DEPTH40_ONE,
 };
-use crate::math::{max, wrapping_mul_small, F32};
+use crate::math::{max, min, wrapping_mul_small, F32};
 
 #[cfg(any(no_hw_divide, test))]
 mod divide;
@@ -139,6 +140,10 @@ pub struct Setup<const V: usize> {
     q: [u32; 3],
     /// The left shift of edge functions for [`perspective::weights`].
     e_shift: u32,
+    /// The same 1/w divided by the largest, in f32 (in (0, 1], the largest exactly 1).
+    inv_w: [F32; 3],
+    /// Whether perspective is worked out in f32 (see [`Setup::use_fpu_perspective`]).
+    fpu: bool,
     /// Varyings at vertex 0 and their differences to vertices 1 and 2 (wrapping).
     v0: [FDot16; V],
     d1: [i32; V],
@@ -278,8 +283,9 @@ impl<const V: usize> Setup<V> {
         // Divided by the largest, positive and finite (`facing`): that one becomes exactly
         // `1 << Q_BITS`, the others at most that (and at least `Q_MIN`).
         let max_w = F32(max(max(a.inv_w, b.inv_w), c.inv_w));
+        let inv_w = [a.inv_w, b.inv_w, c.inv_w].map(|q| F32(q) / max_w);
         let one = F32((1u32 << Q_BITS) as f32);
-        let norm = |q: f32| crate::math::f32_to_i64(((F32(q) / max_w) * one).0).clamp(Q_MIN.into(), 1 << Q_BITS) as u32;
+        let fixed = |q: F32| crate::math::f32_to_i64((q * one).0).clamp(Q_MIN.into(), 1 << Q_BITS) as u32;
 
         let v0 = core::array::from_fn(|k| a.varyings[k]);
         let d1 = core::array::from_fn(|k| b.varyings[k].wrapping_sub(a.varyings[k]));
@@ -295,8 +301,10 @@ impl<const V: usize> Setup<V> {
             z_origin: to_fixed(z_at_origin),
             z_dx: to_fixed(gx * F32(16.0)),
             z_dy: to_fixed(gy * F32(16.0)),
-            q: [norm(a.inv_w), norm(b.inv_w), norm(c.inv_w)],
+            q: inv_w.map(fixed),
             e_shift: perspective::edge_shift(area.unsigned_abs()),
+            inv_w,
+            fpu: false,
             v0,
             d1,
             d2,
@@ -312,13 +320,26 @@ impl<const V: usize> Setup<V> {
         (self.y0, self.y1)
     }
 
+    /// Works this triangle's perspective-correct varyings out in f32 instead of integers:
+    /// fewer instructions with an FPU (one division instead of a reciprocal's Newton steps),
+    /// and soft-float without one. Both are within the same bounds of the exact values, and
+    /// each gives the same bits on every target (f32's basic operations round alike
+    /// everywhere), but not the same bits as the other: a draw picks one for all its
+    /// triangles (`RenderOptions::fixed_vertices` picks integers).
+    pub fn use_fpu_perspective(&mut self) {
+        self.fpu = true;
+    }
+
     /// Perspective-correct varyings where the edge functions are `e` (negative ones count as
     /// 0), and `Σ E_k/w_k` there (proportional to the pixel's `1/w`, 0 where every `E_k` is).
     ///
     /// In integers (see [`perspective`]): the same on every target, and no soft-float where
-    /// there is no FPU.
+    /// there is no FPU; or in f32 (see [`Setup::use_fpu_perspective`]).
     #[inline(always)]
     fn varyings_at(&self, e: [i32; 3]) -> ([i32; V], u32) {
+        if self.fpu {
+            return self.varyings_at_f32(e);
+        }
         match perspective::weights(e, self.e_shift, &self.q) {
             Some((w, sum)) => {
                 (core::array::from_fn(|k| perspective::interpolate(self.v0[k], self.d1[k], self.d2[k], w)), sum)
@@ -333,7 +354,37 @@ impl<const V: usize> Setup<V> {
     #[inline]
     fn linear_within(&self, (a, qa): &([i32; V], u32), (b, qb): &([i32; V], u32)) -> bool {
         let dv = core::array::from_fn(|k| b[k].wrapping_sub(a[k]));
+        if self.fpu {
+            // The sums are f32 bits there (see `varyings_at_f32`). 0 gives an infinite or NaN
+            // ratio: refused.
+            let (qa, qb) = (F32(f32::from_bits(*qa)), F32(f32::from_bits(*qb)));
+            let ratio = (qa - qb).abs() / F32(min(qa.0, qb.0));
+            return (0..V).all(|k| F32::from(dv[k]).abs() * ratio <= F32::from(self.tolerance[k]));
+        }
         perspective::linear_within(dv, (*qa, *qb), &self.tolerance)
+    }
+
+    /// [`Setup::varyings_at`] in f32: the weights `E_k · (1/w_k)`
+    /// keep full relative precision however much the near vertex is magnified by a large depth
+    /// ratio, and one division serves every varying. The sum comes back as its f32 bits
+    /// (positive, so they order as the values do; 0 where every `E_k` is).
+    #[inline(always)]
+    fn varyings_at_f32(&self, e: [i32; 3]) -> ([i32; V], u32) {
+        // Non-negative, so converted as unsigned (the same value, a shorter conversion).
+        let n = |k: usize| F32::from(e[k].max(0) as u32) * self.inv_w[k];
+        let (n1, n2) = (n(1), n(2));
+        let sum = n(0) + n1 + n2;
+        let mut out = self.v0;
+        if sum <= F32(0.0) {
+            return (out, 0);
+        }
+        let inv = F32(1.0) / sum;
+        let (b1, b2) = (n1 * inv, n2 * inv);
+        for (k, o) in out.iter_mut().enumerate() {
+            let offset = F32::from(self.d1[k]) * b1 + F32::from(self.d2[k]) * b2;
+            *o = o.wrapping_add(offset.to_i32());
+        }
+        (out, sum.0.to_bits())
     }
 
     /// Allows affine (screen-linear) varyings when that is provably within `tolerance[k]`

@@ -253,7 +253,8 @@ mod tests {
     /// triangles: tiny to guard-band sized, depth ratios up to 1000:1, texel
     /// coordinates spanning up to 2^31 units, light 0..=1. Texels stay within 1/64 texel
     /// (2^10 units), light within 1/4096 (2^4 units): well inside the 1/16 texel and 1/256
-    /// light the pictures are allowed, with the linear steps' own tolerance on top.
+    /// light the pictures are allowed, with the linear steps' own tolerance on top. Both ways:
+    /// in integers and in f32 (`Setup::use_fpu_perspective`).
     #[test]
     fn varyings_at_is_within_the_bound_of_the_exact_value() {
         let mut rng = Lcg(0x853c_49e6_748f_ea9b);
@@ -264,7 +265,10 @@ mod tests {
             let ratio = [1.0, 1.5, 10.0, 1000.0, 1000.0][rng.below(5) as usize];
             let texels = [1 << 12, 1 << 24, u32::MAX][rng.below(3) as usize];
             let tri = triangle(&mut rng, extent, ratio, texels);
-            let Ok(setup) = Setup::<3>::new(&tri, &window, false, false) else { continue };
+            let Ok(mut setup) = Setup::<3>::new(&tri, &window, false, false) else { continue };
+            if t % 2 == 1 {
+                setup.use_fpu_perspective();
+            }
             // The vertices in the set-up's order (reordered for a positive area).
             let order =
                 if crate::pipeline::raster::facing(&tri, false, false).unwrap() > 0 { [0, 1, 2] } else { [0, 2, 1] };
