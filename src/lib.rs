@@ -50,6 +50,8 @@ mod light;
 mod math;
 mod pipeline;
 mod target;
+#[cfg(test)]
+mod test_rng;
 mod texture;
 
 #[cfg(feature = "convert")]

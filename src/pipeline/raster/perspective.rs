@@ -182,14 +182,12 @@ fn leading_zeros_searched(x: u32) -> u32 {
 mod tests {
     use super::super::{ScreenVertex, Setup, Window};
     use super::*;
+    use crate::test_rng::Lcg;
 
     #[test]
     fn multiplies_and_inverts() {
-        let mut seed = 0x2545_f491_u64;
-        let mut next = || {
-            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (seed >> 32) as u32
-        };
+        let mut rng = Lcg(0x2545_f491);
+        let mut next = || rng.next();
         for _ in 0..100_000 {
             let (a, b) = (next(), next());
             assert_eq!(mul_u32(a, b), a as u64 * b as u64);
@@ -205,26 +203,6 @@ mod tests {
         for d in [1 << 31, (1 << 31) + 1, u32::MAX] {
             let exact = (1u128 << 62) as f64 / d as f64;
             assert!((reciprocal(d) as f64 - exact).abs() <= exact * 2f64.powi(-29), "1/{d}");
-        }
-    }
-
-    /// A small LCG: reproducible without a dependency.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn next(&mut self) -> u32 {
-            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (self.0 >> 32) as u32
-        }
-
-        /// Uniform in `0..n`.
-        fn below(&mut self, n: u32) -> u32 {
-            self.next() % n
-        }
-
-        /// Uniform in `0..1`.
-        fn unit(&mut self) -> f64 {
-            self.next() as f64 / 2f64.powi(32)
         }
     }
 

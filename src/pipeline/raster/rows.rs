@@ -183,11 +183,8 @@ mod tests {
     /// band, for random triangles (a small LCG: reproducible without a dependency).
     #[test]
     fn walked_rows_equal_the_runs_of_for_each_span() {
-        let mut seed = 0x2545_f491_u64;
-        let mut next = |n: u32| {
-            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            ((seed >> 33) as u32) % n
-        };
+        let mut rng = crate::test_rng::Lcg(0x2545_f491);
+        let mut next = |n: u32| (rng.next() >> 1) % n;
         let (mut walked_affine, mut walked_exact) = (0, 0);
         for _ in 0..20_000 {
             let size = [40, 200, 1200][next(3) as usize];

@@ -195,11 +195,8 @@ mod tests {
     /// reproducible without a dependency), ties (`row` a multiple of `d`) included.
     #[test]
     fn divided_and_carried_edges_bound_the_same_columns() {
-        let mut seed = 0x9e37_79b9_u64;
-        let mut next = |n: u32| {
-            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            ((seed >> 33) as u32 % n) as i32
-        };
+        let mut rng = crate::test_rng::Lcg(0x9e37_79b9);
+        let mut next = |n: u32| ((rng.next() >> 1) % n) as i32;
         let mut ties = 0;
         for _ in 0..20_000 {
             let scale = [4, 64, 1024, 30_000][next(4) as usize] as u32;
