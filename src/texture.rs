@@ -180,6 +180,13 @@ impl<'a> Repeat565<'a> {
         v.wrapping_shl(self.width_shift)
     }
 
+    /// The shift of [`Repeat565::scale_v`]: log2 of the width.
+    #[inline(always)]
+    #[must_use]
+    pub(crate) fn width_shift(&self) -> u32 {
+        self.width_shift
+    }
+
     /// RGB at texel coordinates `(u, v)` in 16.16 (black if the texture is short).
     #[inline(always)]
     #[must_use]

@@ -5,7 +5,7 @@
 //! does).
 
 use super::primitive::Surface;
-use super::raster::{Reject, ScreenVertex, Setup, Window};
+use super::raster::{facing, Reject, ScreenVertex, Setup, Window};
 use super::span::{Base, Diffuse, Shader};
 use super::varyings::{is_texel_coordinate, PixelLit, VertexLit};
 use super::{Context, Shading, Stats};
@@ -204,14 +204,12 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
     lighting: &Lt,
     stats: &mut Stats,
 ) -> Result<(), Reject> {
-    let mut setup = match winding.area {
-        Some(area) => Setup::<V>::with_area(tri, window, area)?,
-        None => Setup::<V>::new(tri, window, winding.cull_back, winding.flip)?,
+    let area = match winding.area {
+        Some(area) => area,
+        None => facing(tri, winding.cull_back, winding.flip)?,
     };
-    setup.allow_affine(affine_tolerance::<V>(tolerance));
-    if fpu {
-        setup.use_fpu_perspective();
-    }
+    let mut setup = Setup::<V>::with_area(tri, window, area, fpu)?;
+    let tolerance = affine_tolerance::<V>(tolerance);
     let mut shader = Shader::<C, D, B, Lt, DITHER> {
         area: band.area(),
         color: &mut *band.color,
@@ -222,12 +220,17 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         rejected: 0,
         runs: 0,
     };
-    // The row walk inlines the span loop: only for the variants small targets draw with
-    // (flash: one copy per variant); the rest call it through `dyn` once per run.
-    let walked = if B::WALK_ROWS && !DITHER { setup.walked_rows(subspan) } else { None };
-    match walked {
-        Some(rows) => shader.draw_rows(rows),
-        None => setup.for_each_span(subspan, &mut shader),
+    // With f32 perspective, every variant draws the triangles whose bound allows it with
+    // perspective at each pixel (the same values whatever the variant: a dithered frame
+    // differs from the plain one by its dither only). Else the row walk inlines the span loop:
+    // only for the variants small targets draw with (flash: one copy per variant); the rest
+    // call it through `dyn` once per run.
+    if !(fpu && shader.draw_pixel_rows(&setup, tri.each_ref().map(|v| v.z), &tolerance)) {
+        setup.allow_affine(tolerance);
+        match if B::WALK_ROWS && !DITHER { setup.walked_rows(subspan) } else { None } {
+            Some(rows) => shader.draw_rows(rows),
+            None => setup.for_each_span(subspan, &mut shader),
+        }
     }
     stats.pixels_written += shader.written;
     stats.depth_rejected += shader.rejected;

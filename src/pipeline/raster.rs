@@ -40,6 +40,7 @@ use crate::math::{max, min, wrapping_mul_small, F32};
 #[cfg(any(no_hw_divide, test))]
 mod divide;
 mod perspective;
+mod pixel;
 mod rows;
 mod walk;
 use perspective::{Q_BITS, Q_MIN};
@@ -138,6 +139,8 @@ pub struct Setup<const V: usize> {
     /// 1/w of each vertex divided by the largest, in `Q_BITS` fixed point (so in
     /// `Q_MIN..=1 << Q_BITS`, the largest exactly `1 << Q_BITS`).
     q: [u32; 3],
+    /// The smallest of `q`, also where `q` is not worked out (see [`Setup::with_area`]).
+    q_min: u32,
     /// The left shift of edge functions for [`perspective::weights`].
     e_shift: u32,
     /// The same 1/w divided by the largest, in f32 (in (0, 1], the largest exactly 1).
@@ -238,12 +241,14 @@ impl<const V: usize> Setup<V> {
     /// # Errors
     /// The [`Reject`] that says why nothing is drawn.
     pub fn new(tri: &[ScreenVertex; 3], win: &Window, cull_back: bool, flip: bool) -> Result<Self, Reject> {
-        Self::with_area(tri, win, facing(tri, cull_back, flip)?)
+        Self::with_area(tri, win, facing(tri, cull_back, flip)?, false)
     }
 
-    /// [`Setup::new`] for a triangle that already passed [`facing`], which gave `area`.
+    /// [`Setup::new`] for a triangle that already passed [`facing`], which gave `area`; with
+    /// `fpu`, as [`Setup::use_fpu_perspective`] makes it, without the integer perspective's
+    /// per-triangle values.
     #[inline(always)]
-    pub(crate) fn with_area(tri: &[ScreenVertex; 3], win: &Window, area: i64) -> Result<Self, Reject> {
+    pub(crate) fn with_area(tri: &[ScreenVertex; 3], win: &Window, area: i64, fpu: bool) -> Result<Self, Reject> {
         let [p0, p1, p2] = tri;
         // Within i32 for every triangle of the guard band (see `facing_in_guard_band`).
         let area = i32::try_from(area).map_err(|_| Reject::OutsideGuardBand)?;
@@ -286,6 +291,14 @@ impl<const V: usize> Setup<V> {
         let inv_w = [a.inv_w, b.inv_w, c.inv_w].map(|q| F32(q) / max_w);
         let one = F32((1u32 << Q_BITS) as f32);
         let fixed = |q: F32| crate::math::f32_to_i64((q * one).0).clamp(Q_MIN.into(), 1 << Q_BITS) as u32;
+        // All of `q` only where integers work perspective out (f32 uses `inv_w`); their
+        // smallest always (`fixed` keeps the order: the same value either way).
+        let (q, q_min) = if fpu {
+            ([1 << Q_BITS; 3], fixed(F32(min(min(inv_w[0].0, inv_w[1].0), inv_w[2].0))))
+        } else {
+            let q = inv_w.map(fixed);
+            (q, q[0].min(q[1]).min(q[2]))
+        };
 
         let v0 = core::array::from_fn(|k| a.varyings[k]);
         let d1 = core::array::from_fn(|k| b.varyings[k].wrapping_sub(a.varyings[k]));
@@ -301,10 +314,11 @@ impl<const V: usize> Setup<V> {
             z_origin: to_fixed(z_at_origin),
             z_dx: to_fixed(gx * F32(16.0)),
             z_dy: to_fixed(gy * F32(16.0)),
-            q: inv_w.map(fixed),
+            q,
+            q_min,
             e_shift: perspective::edge_shift(area.unsigned_abs()),
             inv_w,
-            fpu: false,
+            fpu,
             v0,
             d1,
             d2,
@@ -400,8 +414,7 @@ impl<const V: usize> Setup<V> {
     /// one unit (of 2^-16) per pixel of a run, which the exact path has too for `subspan > 1`.
     /// With equal `1/w` everywhere (e.g. an orthographic camera) affine is exact and always used.
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
-        let [q0, q1, q2] = self.q;
-        let q_min = q0.min(q1).min(q2);
+        let q_min = self.q_min;
         let within = (0..V).all(|k| {
             // `max(d1, d2, 0) - min(d1, d2, 0)`: below 2^32, exact in u32.
             let (d1, d2) = (self.d1[k], self.d2[k]);

@@ -14,8 +14,9 @@
 #![allow(unsafe_code)]
 
 use super::fragment::Lighting;
-use super::raster::{step_varyings, Span, SpanSink, WalkedRow, WalkedRows};
+use super::raster::{step_varyings, Setup, Span, SpanSink, WalkedRow, WalkedRows};
 use super::varyings::{texel_coordinates, VertexLit};
+use crate::fixed::{Depth30, FDot16};
 use crate::format::{decode_texel, TextureFormat};
 use crate::target::{BandArea, DepthBuffer, DepthCell, FrameColor};
 use crate::texture::{modulate, Repeat565, Sampler};
@@ -26,14 +27,15 @@ pub(super) trait Base: Copy {
     /// `fragment::fragments`): the fast bases of small targets, not the general sampler.
     const WALK_ROWS: bool = true;
 
-    /// Texel coordinate `v` and its step as this base's `base` and `lit` take them: once a run,
-    /// so a base can move per-pixel work to the run (see `Repeat565::scale_v`).
+    /// The left shift (wrapping) of texel coordinate `v` that this base's `base` and `lit`
+    /// take it with: applied once a run where varyings step linearly, so a base can move
+    /// per-pixel work to the run (see `Repeat565::scale_v`).
     #[inline(always)]
-    fn run_v(&self, v: i32) -> i32 {
-        v
+    fn v_shift(&self) -> u32 {
+        0
     }
 
-    /// The colour at texel coordinates `(u, v)` (`v` as [`Base::run_v`] gives it), or `None` for
+    /// The colour at texel coordinates `(u, v)` (`v` shifted by [`Base::v_shift`]), or `None` for
     /// a cut-out texel.
     fn base(&self, u: i32, v: i32) -> Option<[u8; 3]>;
 
@@ -58,8 +60,8 @@ impl Base for Diffuse {
 
 impl Base for Repeat565<'_> {
     #[inline(always)]
-    fn run_v(&self, v: i32) -> i32 {
-        self.scale_v(v)
+    fn v_shift(&self) -> u32 {
+        self.width_shift()
     }
 
     #[inline(always)]
@@ -86,6 +88,39 @@ impl Base for Sampler<'_> {
     }
 }
 
+/// The varyings along a run, as the span loop reads them: at the current pixel, then on to the
+/// next.
+pub(super) trait RunVaryings<const V: usize> {
+    /// From now on, texel coordinate `v` comes shifted left by `shift` (wrapping; see
+    /// [`Base::v_shift`]).
+    fn shift_v(&mut self, shift: u32);
+    /// The varyings at the current pixel.
+    fn current(&self) -> [FDot16; V];
+    /// On to the next pixel.
+    fn advance(&mut self);
+}
+
+/// Varyings stepped linearly: the values at the current pixel and their steps per pixel
+/// (wrapping adds, like every varying sum).
+pub(super) struct Stepped<const V: usize>(pub(super) [FDot16; V], pub(super) [FDot16; V]);
+
+impl<const V: usize> RunVaryings<V> for Stepped<V> {
+    #[inline(always)]
+    fn shift_v(&mut self, shift: u32) {
+        // Linear: the shifted value steps by the shifted step.
+        let k = VertexLit::V;
+        (self.0[k], self.1[k]) = (self.0[k].wrapping_shl(shift), self.1[k].wrapping_shl(shift));
+    }
+    #[inline(always)]
+    fn current(&self) -> [FDot16; V] {
+        self.0
+    }
+    #[inline(always)]
+    fn advance(&mut self) {
+        step_varyings(&mut self.0, &self.1);
+    }
+}
+
 /// The per-pixel work for one triangle: depth test, base colour (alpha test), light, store.
 pub(super) struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     /// The band's colour slice: exactly `rows · width` entries (`Band::new` checked it).
@@ -105,43 +140,50 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
 {
     #[inline(never)]
     fn span(&mut self, s: &Span<V>) {
-        self.span_inline(s);
+        self.run((s.x, s.y, s.len), (s.z, s.dz), Stepped(s.v, s.dv));
     }
 }
 
 impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
-    /// The body of [`SpanSink::span`], for the loops that inline it.
+    /// The body of [`SpanSink::span`], for the loops that inline it: the run of `len` pixels
+    /// from frame pixel `(x, y)`, depth `z` stepping by `dz`, varyings from `vary`.
     #[inline(always)]
-    fn span_inline<const V: usize>(&mut self, s: &Span<V>) {
-        let len = s.len as usize;
+    pub(super) fn run<const V: usize, R: RunVaryings<V>>(
+        &mut self,
+        (x, y, len): (i32, i32, u32),
+        (mut z, dz): (Depth30, i32),
+        mut vary: R,
+    ) {
         // The run must lie on one row of this band (the rasterizer guarantees it); checked
         // anyway.
-        let Some(start) = self.area.run_start(s.x, s.y, len) else {
+        let Some(start) = self.area.run_start(x, y, len as usize) else {
             return;
         };
-        let (Some(colors), Some(cells)) = (colors_of(self.color, start, len), self.depth.cells(start, len)) else {
+        let (Some(colors), Some(cells)) =
+            (colors_of(self.color, start, len as usize), self.depth.cells(start, len as usize))
+        else {
             return;
         };
         // By reference: copying it into the loop (once a run) costs more than its loads.
         let base = self.base;
-        let (mut z, mut v, mut dv) = (s.z, s.v, s.dv);
-        (v[VertexLit::V], dv[VertexLit::V]) = (base.run_v(v[VertexLit::V]), base.run_v(dv[VertexLit::V]));
+        vary.shift_v(base.v_shift());
         let (mut rejected, mut cut) = (0, 0);
         for (k, (px, mut cell)) in colors.iter_mut().zip(cells).enumerate() {
             if !cell.passes(z) {
                 rejected += 1;
                 // A cut-out texel writes neither colour nor depth.
-            } else if let Some(c) = lit_fragment::<C, B, Lt, V, DITHER>(base, self.lighting, &v, (s.x + k as i32, s.y))
+            } else if let Some(c) =
+                lit_fragment::<C, B, Lt, V, DITHER>(base, self.lighting, &vary.current(), (x + k as i32, y))
             {
                 *px = c;
                 cell.store(z);
             } else {
                 cut += 1;
             }
-            z = z.wrapping_add_signed(s.dz);
-            step_varyings(&mut v, &dv);
+            z = z.wrapping_add_signed(dz);
+            vary.advance();
         }
-        self.written += s.len - rejected - cut;
+        self.written += len - rejected - cut;
         self.rejected += rejected;
         self.runs += 1;
     }
@@ -156,11 +198,37 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> S
         let dz = rows.dz;
         while let Some(row) = rows.next_row() {
             match row {
-                WalkedRow::Run(y, x, len, z, v, dv) => self.span_inline(&Span { y, x, len, z, dz, v, dv }),
+                WalkedRow::Run(y, x, len, z, v, dv) => self.run((x, y, len), (z, dz), Stepped(v, dv)),
                 WalkedRow::Cut(y, dy, lo, hi) => rows.cut_row(self, (y, dy, lo, hi)),
                 WalkedRow::Empty => {}
             }
         }
+    }
+}
+
+impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
+    /// Draws `setup`'s rows with perspective at every pixel when its bound allows for
+    /// `tolerance` and its vertices' depths `z` for that (see [`Setup::pixel_rows`]); whether
+    /// it did. Out of line without an FPU,
+    /// where it runs only if asked for (`RenderOptions::fixed_vertices` off): its planes and
+    /// soft-float temporaries then stay out of the common path's stack frame.
+    #[cfg_attr(soft_float, inline(never))]
+    pub(super) fn draw_pixel_rows<const V: usize>(
+        &mut self,
+        setup: &Setup<V>,
+        z: [f32; 3],
+        tolerance: &[u32; V],
+    ) -> bool {
+        let Some(mut rows) = setup.pixel_rows(z, tolerance, self.base.v_shift()) else {
+            return false;
+        };
+        let dz = rows.dz();
+        while let Some(row) = rows.next_row() {
+            if let Some((at, z, run)) = row {
+                self.run(at, (z, dz), run);
+            }
+        }
+        true
     }
 }
 

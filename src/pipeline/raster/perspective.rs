@@ -179,7 +179,7 @@ fn leading_zeros_searched(x: u32) -> u32 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::super::{ScreenVertex, Setup, Window};
     use super::*;
     use crate::test_rng::Lcg;
@@ -208,7 +208,12 @@ mod tests {
 
     /// A random triangle within `extent` pixels (28.4), with `1/w`s up to `ratio`:1 apart and
     /// varyings 0, 1 (texels) spanning up to `texels` units and 2 (light) within 0..=1.
-    fn triangle(rng: &mut Lcg, extent: u32, ratio: f64, texels: u32) -> [ScreenVertex; 3] {
+    pub(in crate::pipeline::raster) fn triangle(
+        rng: &mut Lcg,
+        extent: u32,
+        ratio: f64,
+        texels: u32,
+    ) -> [ScreenVertex; 3] {
         let scale = 2f64.powi(rng.below(40) as i32 - 20);
         core::array::from_fn(|_| {
             let mut varyings = [0; 8];

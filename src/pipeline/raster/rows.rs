@@ -23,12 +23,37 @@ impl<const V: usize> Setup<V> {
         if self.affine.is_none() && !adaptive {
             return None;
         }
-        // Gradients within i32 (all but the steepest triangles): the depth at a row's first
-        // pixel is then two 32x32-bit multiply-accumulates (`smlal` on Cortex-M4; see
-        // `math::mul_wide`, whose bound the box's rows and columns, below 2^11, meet).
-        let (z_dx, z_dy) = (i32::try_from(self.z_dx).ok()?, i32::try_from(self.z_dy).ok()?);
+        let cursor = self.row_cursor()?;
+        Some(WalkedRows { setup: self, dz: cursor.dz, cursor })
+    }
+
+    /// The walk of this triangle's rows for a span loop that walks them itself, when every
+    /// run's stepped depth provably stays within 0..=2^30 (see [`Setup::safe_depth_step`]) on
+    /// the window's rows.
+    #[inline(always)]
+    fn row_cursor(&self) -> Option<RowCursor> {
+        let (z_dx, z_dy) = self.depth_gradients()?;
         let dz = self.safe_depth_step(z_dx, z_dy)?;
-        Some(WalkedRows { setup: self, walk: self.row_walk(), y: self.y0, z_dx, z_dy, dz })
+        Some(RowCursor { walk: self.row_walk(), y: self.y0, z_dx, z_dy, dz })
+    }
+
+    /// The walk of this triangle's rows when its vertices' depths all lie within
+    /// `2^-10 ..= 1 - 2^-10` (`z_inside`): then every covered pixel's depth does too, and a
+    /// run's stepped depth is off it by far less than that margin (the plane's f32 set-up by
+    /// about 2^-21, each step by under 2^-30), so no check over the box is needed.
+    #[inline(always)]
+    pub(super) fn row_cursor_inside(&self, z_inside: bool) -> Option<RowCursor> {
+        let (z_dx, z_dy) = self.depth_gradients().filter(|_| z_inside)?;
+        Some(RowCursor { walk: self.row_walk(), y: self.y0, z_dx, z_dy, dz: z_dx >> 10 })
+    }
+
+    /// The depth plane's gradients (24.40) when they fit i32 (all but the steepest
+    /// triangles): the depth at a row's first pixel is then two 32x32-bit multiply-accumulates
+    /// (`smlal` on Cortex-M4; see `math::mul_wide`, whose bound the box's rows and columns,
+    /// below 2^11, meet).
+    #[inline(always)]
+    fn depth_gradients(&self) -> Option<(i32, i32)> {
+        Some((i32::try_from(self.z_dx).ok()?, i32::try_from(self.z_dy).ok()?))
     }
 
     /// The varyings at the first pixel of the row `dy` below the origin (columns `lo..=hi`)
@@ -89,17 +114,56 @@ fn per_pixel_steps<const V: usize>(start: &[FDot16; V], end: &[FDot16; V], len: 
     core::array::from_fn(|k| end[k].wrapping_sub(start[k]) / len)
 }
 
-/// A triangle's rows, walked by the span loop itself (see [`Setup::walked_rows`]): the same
-/// spans as [`Setup::for_each_span`] hands out, bit for bit, without a call or a [`Span`] in
-/// memory per run.
-pub(crate) struct WalkedRows<'s, const V: usize> {
-    setup: &'s Setup<V>,
+/// A triangle's rows for a span loop that walks them itself: the covered columns of each
+/// row and the depth at the first (see [`Setup::row_cursor`]).
+pub(crate) struct RowCursor {
     walk: RowWalk,
     /// The next frame row.
     y: i32,
     /// The depth plane's gradients (24.40), which fit i32 here.
     z_dx: i32,
     z_dy: i32,
+    /// The per-pixel depth step in 2.30.
+    pub(crate) dz: i32,
+}
+
+/// One row of a [`RowCursor`] with covered pixels: frame row, rows below the origin, covered
+/// columns `lo..=hi` of the box, depth (2.30) at `lo`.
+pub(crate) struct CoveredRow {
+    pub(crate) y: i32,
+    pub(crate) dy: i32,
+    pub(crate) lo: i32,
+    pub(crate) hi: i32,
+    pub(crate) z: Depth30,
+}
+
+impl RowCursor {
+    /// The next row of `s` (the set-up this cursor walks): `None` after the last, `Some(None)`
+    /// for a row with no pixel centre covered.
+    #[inline(always)]
+    pub(crate) fn next_row<const V: usize>(&mut self, s: &Setup<V>) -> Option<Option<CoveredRow>> {
+        let y = self.y;
+        if y > s.y1 {
+            return None;
+        }
+        self.y += 1;
+        let (lo, hi) = self.walk.next_row(s.x1 - s.x0);
+        if lo > hi {
+            return Some(None);
+        }
+        let dy = y - s.origin_row;
+        // The same value as `Setup::depth_at` (the same products, wrapping sums).
+        let z40 = s.z_origin.wrapping_add(mul_wide(self.z_dx, lo)).wrapping_add(mul_wide(self.z_dy, dy));
+        Some(Some(CoveredRow { y, dy, lo, hi, z: depth40_to_30(z40) as Depth30 }))
+    }
+}
+
+/// A triangle's rows, walked by the span loop itself (see [`Setup::walked_rows`]): the same
+/// spans as [`Setup::for_each_span`] hands out, bit for bit, without a call or a [`Span`] in
+/// memory per run.
+pub(crate) struct WalkedRows<'s, const V: usize> {
+    setup: &'s Setup<V>,
+    cursor: RowCursor,
     /// The per-pixel depth step in 2.30.
     pub(crate) dz: i32,
 }
@@ -121,16 +185,9 @@ impl<const V: usize> WalkedRows<'_, V> {
     #[inline(always)]
     pub(crate) fn next_row(&mut self) -> Option<WalkedRow<V>> {
         let s = self.setup;
-        let y = self.y;
-        if y > s.y1 {
-            return None;
-        }
-        self.y += 1;
-        let (lo, hi) = self.walk.next_row(s.x1 - s.x0);
-        if lo > hi {
+        let Some(CoveredRow { y, dy, lo, hi, z }) = self.cursor.next_row(s)? else {
             return Some(WalkedRow::Empty);
-        }
-        let dy = y - s.origin_row;
+        };
         let (v, dv) = match &s.affine {
             Some(p) => p.at(lo, dy),
             None => match s.linear_row(dy, lo, hi) {
@@ -138,9 +195,6 @@ impl<const V: usize> WalkedRows<'_, V> {
                 None => return Some(WalkedRow::Cut(y, dy, lo, hi)),
             },
         };
-        // The same value as `Setup::depth_at` (the same products, wrapping sums).
-        let z40 = s.z_origin.wrapping_add(mul_wide(self.z_dx, lo)).wrapping_add(mul_wide(self.z_dy, dy));
-        let z = depth40_to_30(z40) as Depth30;
         Some(WalkedRow::Run(y, s.x0 + lo, (hi + 1 - lo) as u32, z, v, dv))
     }
 

@@ -13,6 +13,8 @@
 //! module's numbers), and so does `row` on every row of the box.
 
 use super::Edge;
+#[cfg(any(not(no_hw_divide), test))]
+use core::num::NonZeroU32;
 
 /// A triangle's three edges, stepped together row by row.
 pub(super) struct RowWalk([EdgeRow; 3]);
@@ -74,15 +76,17 @@ fn clamp(e: &impl EdgeBound, (lo, hi): (i32, i32)) -> (i32, i32) {
 struct DividedEdge {
     row: i32,
     b16: i32,
-    /// `|step|`, or 0 for a flat edge.
-    d: u32,
+    /// `|step|`, or 1 for a flat edge (never divided by: a divisor known not to be 0 needs
+    /// no check before each division).
+    d: NonZeroU32,
     step: i32,
 }
 
 #[cfg(any(not(no_hw_divide), test))]
 impl DividedEdge {
     fn new(e: &Edge, dy: i32) -> Self {
-        DividedEdge { row: e.c + e.b * 16 * dy, b16: e.b * 16, d: (e.a * 16).unsigned_abs(), step: e.a * 16 }
+        let d = NonZeroU32::new((e.a * 16).unsigned_abs()).unwrap_or(NonZeroU32::MIN);
+        DividedEdge { row: e.c + e.b * 16 * dy, b16: e.b * 16, d, step: e.a * 16 }
     }
 
     /// On to the next row (wrapping: the row after the box's last need not fit).
@@ -102,7 +106,7 @@ impl EdgeBound for DividedEdge {
     fn first(&self) -> i32 {
         // `ceil(-row / d) = floor((d - 1 - row) / d)`, at most 0 when `row >= 0`; in u32,
         // where `d - 1 - row` (below 2^31 + 2^20) fits whenever it is non-negative.
-        let d_1 = self.d - 1;
+        let d_1 = self.d.get() - 1;
         if self.row > d_1 as i32 {
             0
         } else {
@@ -213,7 +217,7 @@ mod tests {
                 let span = (next(2), last);
                 let (d, c) = (covered(clamp(&divided, span)), covered(clamp(&carried, span)));
                 assert_eq!(d, c, "{e:?} at row value {}", divided.row);
-                ties += i32::from(divided.d > 0 && divided.row % divided.d as i32 == 0);
+                ties += i32::from(divided.step != 0 && divided.row % divided.d.get() as i32 == 0);
                 divided.next_row();
                 carried.next_row();
             }
