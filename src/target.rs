@@ -24,6 +24,10 @@ pub trait FrameColor: Copy {
     fn from_rgb888(rgb: [u8; 3]) -> Self;
     /// Converts to 8-bit RGB.
     fn to_rgb888(self) -> [u8; 3];
+    /// Whether [`FrameColor::from_rgb888_dithered`] depends on the position: false lets a draw
+    /// asked to dither take the plain path (the same pixels, drawn faster). True unless a
+    /// format says otherwise.
+    const DITHERS: bool = true;
     /// Converts with ordered dithering for pixel `(x, y)` of the frame; formats with 8 bits per
     /// channel ignore the position.
     #[inline]
@@ -93,6 +97,7 @@ pub fn luma(rgb: [u8; 3]) -> u8 {
 }
 
 impl FrameColor for Rgb888 {
+    const DITHERS: bool = false;
     #[inline]
     fn from_rgb888(rgb: [u8; 3]) -> Self {
         Rgb888::new(rgb[0], rgb[1], rgb[2])
@@ -133,6 +138,7 @@ impl FrameColor for Rgb565 {
 }
 
 impl FrameColor for Gray8 {
+    const DITHERS: bool = false;
     #[inline]
     fn from_rgb888(rgb: [u8; 3]) -> Self {
         Gray8::new(luma(rgb))

@@ -13,7 +13,7 @@ use crate::fixed::FDot16;
 
 use crate::light::PixelLights;
 use crate::target::{Band, DepthBuffer, FrameColor};
-use crate::texture::{modulate, Repeat565};
+use crate::texture::modulate;
 
 /// Where a fragment's light comes from.
 pub(super) trait Lighting {
@@ -92,7 +92,7 @@ pub(crate) fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
 ) {
     let (material, sampler) = (surface.material, surface.sampler);
     let winding = Winding { cull_back: material.cull_back_faces, flip: surface.flip, area };
-    let r = match (sampler, sampler.and_then(Repeat565::new)) {
+    let r = match (sampler, surface.fast) {
         (_, Some(fast)) => fill_with(band, ctx, winding, tri, &fast, stats),
         (Some(t), None) => fill_with(band, ctx, winding, tri, t, stats),
         (None, _) => {
@@ -146,7 +146,8 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     // One monomorphised loop per lighting (with its number of varyings) and dithering.
     macro_rules! with_dither {
         ($varyings:expr, $lighting:expr) => {
-            if ctx.opts.dither {
+            // Formats that ignore the position take the plain path (the same pixels).
+            if ctx.opts.dither && C::DITHERS {
                 fragments::<_, _, _, _, { $varyings }, true>(band, raster, tri, winding, base, $lighting, stats)
             } else {
                 fragments::<_, _, _, _, { $varyings }, false>(band, raster, tri, winding, base, $lighting, stats)
@@ -220,14 +221,13 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         rejected: 0,
         runs: 0,
     };
-    // With f32 perspective, every variant draws the triangles whose bound allows it with
-    // perspective at each pixel (the same values whatever the variant: a dithered frame
-    // differs from the plain one by its dither only). Else the row walk inlines the span loop:
-    // only for the variants small targets draw with (flash: one copy per variant); the rest
-    // call it through `dyn` once per run.
-    if !(fpu && shader.draw_pixel_rows(&setup, tri.each_ref().map(|v| v.z), &tolerance)) {
+    // The row walks inline the span loop: only for the variants small targets draw with
+    // (flash: one copy per variant); the rest call it through `dyn` once per run. With f32
+    // perspective, the triangles whose bound allows it get perspective at each pixel.
+    let walk = B::WALK_ROWS && !DITHER;
+    if !(fpu && walk && shader.draw_pixel_rows(&setup, tri.each_ref().map(|v| v.z), &tolerance)) {
         setup.allow_affine(tolerance);
-        match if B::WALK_ROWS && !DITHER { setup.walked_rows(subspan) } else { None } {
+        match if walk { setup.walked_rows(subspan) } else { None } {
             Some(rows) => shader.draw_rows(rows),
             None => setup.for_each_span(subspan, &mut shader),
         }

@@ -455,7 +455,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     for sub in mesh.submeshes() {
         let material = material_of(model, &sub);
         let sampler = ctx.sampler(model, mesh, &material);
-        let surface = Surface { material: &material, sampler: sampler.as_ref(), flip: setup.flip };
+        let surface = Surface::new(&material, sampler.as_ref(), setup.flip);
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
         let mut draw = |t: u32, stats: &mut Stats| draw_triangle(band, ctx, &setup, t, &surface, stats);
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {

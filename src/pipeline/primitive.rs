@@ -18,7 +18,7 @@ use super::vertex::{
 use super::{Context, DrawSetup, Mode, Shading, Stats};
 use crate::format::Material;
 use crate::target::{Band, DepthBuffer, FrameColor};
-use crate::texture::Sampler;
+use crate::texture::{Repeat565, Sampler};
 
 /// How a sub-mesh's triangles look and which way they face: what every stage after the
 /// vertices needs of the material.
@@ -27,8 +27,17 @@ pub(crate) struct Surface<'a, 'm> {
     pub(crate) material: &'a Material,
     /// Its texture, when it has one and textures are on.
     pub(crate) sampler: Option<&'a Sampler<'m>>,
+    /// The same texture's fast form, when it has one ([`Repeat565::new`]).
+    pub(crate) fast: Option<Repeat565<'m>>,
     /// The draw's transform mirrors (negative determinant): front faces wind the other way.
     pub(crate) flip: bool,
+}
+
+impl<'a, 'm> Surface<'a, 'm> {
+    /// The surface of `material` with `sampler`, for a draw whose transform mirrors or not.
+    pub(crate) fn new(material: &'a Material, sampler: Option<&'a Sampler<'m>>, flip: bool) -> Self {
+        Surface { material, sampler, fast: sampler.and_then(Repeat565::new), flip }
+    }
 }
 
 /// Draws triangle `t` and returns the rows it can touch (for [`Scratch`](super::Scratch)).
