@@ -222,11 +222,13 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         runs: 0,
     };
     // The row walks inline the span loop: only for the variants small targets draw with
-    // (flash: one copy per variant); the rest call it through `dyn` once per run. With f32
-    // perspective, the triangles whose bound allows it get perspective at each pixel.
+    // (flash: one copy per variant); the rest call it through `dyn` once per run. Affine
+    // varyings where they are within tolerance (integer steps: the cheapest pixels); else,
+    // with f32 perspective, the triangles whose bound allows it get perspective at each pixel.
     let walk = B::WALK_ROWS && !DITHER;
-    if !(fpu && walk && shader.draw_pixel_rows(&setup, tri.each_ref().map(|v| v.z), &tolerance)) {
-        setup.allow_affine(tolerance);
+    setup.allow_affine(tolerance);
+    let pixel = fpu && walk && !setup.is_affine();
+    if !(pixel && shader.draw_pixel_rows(&setup, tri.each_ref().map(|v| v.z), &tolerance)) {
         match if walk { setup.walked_rows(subspan) } else { None } {
             Some(rows) => shader.draw_rows(rows),
             None => setup.for_each_span(subspan, &mut shader),

@@ -21,7 +21,8 @@
 //!   [`Setup::use_fpu_perspective`]) computed exactly every `subspan` pixels along a span and
 //!   linearly in between (`subspan = 1`: every pixel exact), or, within
 //!   a chosen tolerance ([`Setup::allow_affine`]), from one affine plane per varying (the whole
-//!   triangle) or exactly at the ends of runs as long as the tolerance allows (`subspan = 1`).
+//!   triangle) or exactly at the ends of runs as long as the tolerance allows (`subspan = 1`);
+//!   with an FPU, where a bound allows, in f32 at every pixel (see `pixel`).
 //! - Pixels reach the shader as runs ([`Span`]s): a run of pixels on one row with a first value
 //!   and a per-pixel step for depth and every varying, so the per-pixel loop only adds. The span
 //!   loop either walks the rows itself ([`Setup::walked_rows`], one run a row, no call) or gets
