@@ -86,8 +86,8 @@ pub struct RenderOptions {
     /// linearly only where that is provably within 1/16 texel and 1/256 of full light (plus
     /// stepping's rounding, under 2^-16 per pixel; see `raster::Setup::allow_affine`). Without
     /// `fixed_vertices`, triangles of the common variants (nearest RGB565 or untextured, no
-    /// dithering) whose error bound allows it are worked out at every pixel in f32 whatever
-    /// this says: as exact, within the same bounds, and faster.
+    /// dithering) that are not affine within those bounds are worked out at every pixel in f32
+    /// where their error bound allows it, whatever this says: as exact, and faster.
     pub subspan: u32,
     /// Whether textures are used (false: material colour only).
     pub textures: bool,
