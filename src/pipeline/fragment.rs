@@ -5,9 +5,11 @@
 //! does).
 
 use super::primitive::Surface;
-use super::raster::{facing, Reject, ScreenVertex, Setup, Window};
+use super::raster::{facing_of, Corner, Reject, ScreenVertex, Setup, Window};
+use super::scratch::TransformedVertex;
 use super::span::{Base, Diffuse, Shader};
 use super::varyings::{is_texel_coordinate, PixelLit, VertexLit};
+use super::vertex::{vertex_lit_varyings, VertexLight};
 use super::{Context, Shading, Stats};
 use crate::fixed::FDot16;
 
@@ -80,12 +82,52 @@ impl<const L: usize> Lighting for PixelLights<L> {
     }
 }
 
+/// A triangle's corners as the front end has them: what [`fill`] takes.
+#[derive(Clone, Copy)]
+pub(crate) enum Corners<'a> {
+    /// Projected vertices with all their varyings (clipped, or drawn without a vertex cache).
+    Screen(&'a [ScreenVertex; 3]),
+    /// Cached vertices (see [`TransformedVertex`]), lit by their own light varyings or, when
+    /// given, by these (flat shading's).
+    Cached(&'a [&'a TransformedVertex; 3], Option<&'a [VertexLight; 3]>),
+}
+
+impl Corners<'_> {
+    /// The corners as the set-up of a variant of `V` varyings reads them: from the cache, only
+    /// those `V` (no screen vertex built).
+    #[inline(always)]
+    fn corners<const V: usize>(self) -> [Corner<V>; 3] {
+        match self {
+            Corners::Screen(tri) => tri.each_ref().map(Corner::of),
+            Corners::Cached(p, flat) => core::array::from_fn(|k| {
+                let p = p[k];
+                let light = flat.map_or_else(|| p.light(), |l| l[k]);
+                let (x, y) = (i32::from(p.xy[0]), i32::from(p.xy[1]));
+                Corner::new((x, y), p.z, p.inv_w, &vertex_lit_varyings(p.texel, light))
+            }),
+        }
+    }
+
+    /// Whether every corner's light is white (the same on all three channels).
+    #[inline(always)]
+    fn white(self) -> bool {
+        let white = |[r, g, b]: [i32; 3]| r == g && r == b;
+        match self {
+            Corners::Screen(tri) => tri.iter().all(|v| white(VertexLit::light(&v.varyings))),
+            Corners::Cached(p, flat) => (0..3).all(|k| {
+                let [r, g, b, _] = flat.map_or_else(|| p[k].light(), |l| l[k]);
+                white([r, g, b].map(i32::from))
+            }),
+        }
+    }
+}
+
 /// Rasterizes one screen triangle, choosing the monomorphised inner loop once per triangle so
 /// the per-pixel loop never branches on modes.
 pub(crate) fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    tri: &[ScreenVertex; 3],
+    tri: Corners<'_>,
     area: Option<i64>,
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
@@ -93,11 +135,11 @@ pub(crate) fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     let (material, sampler) = (surface.material, surface.sampler);
     let winding = Winding { cull_back: material.cull_back_faces, flip: surface.flip, area };
     let r = match (sampler, surface.fast) {
-        (_, Some(fast)) => fill_with(band, ctx, winding, tri, &fast, stats),
-        (Some(t), None) => fill_with(band, ctx, winding, tri, t, stats),
+        (_, Some(fast)) => fill_with(band, ctx, (winding, surface.white), tri, &fast, stats),
+        (Some(t), None) => fill_with(band, ctx, (winding, surface.white), tri, t, stats),
         (None, _) => {
             let diffuse = Diffuse([material.rgba[0], material.rgba[1], material.rgba[2]]);
-            fill_with(band, ctx, winding, tri, &diffuse, stats)
+            fill_with(band, ctx, (winding, surface.white), tri, &diffuse, stats)
         }
     };
     match r {
@@ -116,22 +158,22 @@ struct Winding {
     area: Option<i64>,
 }
 
-/// [`fill`] for one base colour source: picks the lighting and dithering variant.
+/// [`fill`] for one base colour source: picks the lighting and dithering variant. `white`: the
+/// surface's corners are all lit white (see `Surface::white`).
 fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    winding: Winding,
-    tri: &[ScreenVertex; 3],
+    (winding, white): (Winding, bool),
+    tri: Corners<'_>,
     base: &B,
     stats: &mut Stats,
 ) -> Result<(), Reject> {
     let specular = ctx.specular;
     let pl = &ctx.pixel_lights;
+    // Asked only of the vertex-lit variants (Phong's varyings hold normals).
     let white = || {
-        tri.iter().all(|v| {
-            let light = VertexLit::light(&v.varyings);
-            light[0] == light[1] && light[0] == light[2]
-        })
+        debug_assert!(!white || tri.white(), "a white surface's corner is not white");
+        white || tri.white()
     };
     let lit = if ctx.opts.shading == Shading::Phong {
         LitBy::Pixel
@@ -148,9 +190,25 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
         ($varyings:expr, $lighting:expr) => {
             // Formats that ignore the position take the plain path (the same pixels).
             if ctx.opts.dither && C::DITHERS {
-                fragments::<_, _, _, _, { $varyings }, true>(band, raster, tri, winding, base, $lighting, stats)
+                fragments::<_, _, _, _, { $varyings }, true>(
+                    band,
+                    raster,
+                    &tri.corners(),
+                    winding,
+                    base,
+                    $lighting,
+                    stats,
+                )
             } else {
-                fragments::<_, _, _, _, { $varyings }, false>(band, raster, tri, winding, base, $lighting, stats)
+                fragments::<_, _, _, _, { $varyings }, false>(
+                    band,
+                    raster,
+                    &tri.corners(),
+                    winding,
+                    base,
+                    $lighting,
+                    stats,
+                )
             }
         };
     }
@@ -199,7 +257,7 @@ fn affine_tolerance<const V: usize>(other: u32) -> [u32; V] {
 fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
     (window, subspan, tolerance, fpu): (&Window, u32, u32, bool),
-    tri: &[ScreenVertex; 3],
+    tri: &[Corner<V>; 3],
     winding: Winding,
     base: &B,
     lighting: &Lt,
@@ -207,7 +265,7 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
 ) -> Result<(), Reject> {
     let area = match winding.area {
         Some(area) => area,
-        None => facing(tri, winding.cull_back, winding.flip)?,
+        None => facing_of(tri.each_ref().map(|c| (c.x, c.y, c.inv_w)), winding.cull_back, winding.flip)?,
     };
     let mut setup = Setup::<V>::with_area(tri, window, area, fpu)?;
     let tolerance = affine_tolerance::<V>(tolerance);

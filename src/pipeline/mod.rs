@@ -330,6 +330,10 @@ pub(crate) struct Context<'l, const L: usize> {
     /// Vertex lighting needs world positions (point lights or specular); directional and
     /// hemispheric light alone needs only normals.
     pub(crate) lit_by_position: bool,
+    /// The ambient light and every light's colour are grey (the same on all three channels),
+    /// so every vertex-lit corner without a vertex colour is lit white: each channel's light
+    /// comes from the same operations on the same values.
+    pub(crate) grey_light: bool,
     pub(crate) opts: RenderOptions,
     pub(crate) guard: GuardBand,
     pub(crate) window: Window,
@@ -355,6 +359,7 @@ impl<'l, const L: usize> Context<'l, L> {
             pixel_lights: PixelLights::new(lights),
             lit_by_position: lights.specular != Vec3::ZERO
                 || lights.lights.iter().any(|l| l.kind == crate::format::LightKind::Point),
+            grey_light: is_grey(lights.ambient) && lights.lights.iter().all(|l| is_grey(l.diffuse)),
             opts: *opts,
             guard: GuardBand { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
             window: Window {
@@ -374,6 +379,11 @@ impl<'l, const L: usize> Context<'l, L> {
             .and_then(|t| model.texture(t))
             .map(|t| Sampler::new(t, material.wrap_u, material.wrap_v, self.opts.filter))
     }
+}
+
+/// Whether colour `c` is grey: the same on all three channels (not NaN).
+fn is_grey(c: Vec3) -> bool {
+    c.x == c.y && c.x == c.z
 }
 
 /// Per-draw constants.
@@ -458,7 +468,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     for sub in mesh.submeshes() {
         let material = material_of(model, &sub);
         let sampler = ctx.sampler(model, mesh, &material);
-        let surface = Surface::new(&material, sampler.as_ref(), setup.flip);
+        let surface = Surface::new(&material, sampler.as_ref(), ctx, &setup);
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
         let mut draw = |t: u32, stats: &mut Stats| draw_triangle(band, ctx, &setup, t, &surface, stats);
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {

@@ -6,14 +6,14 @@
 use super::clip::{
     classify, cut, finite_varyings, ClipResult, ClipVertex, Polygon, MAX_CLIPPED, NEEDS_CLIP, NOT_FINITE,
 };
-use super::fragment::fill;
+use super::fragment::{fill, Corners};
 use super::line::{line, plot};
 use super::raster::{facing, facing_in_guard_band, in_guard_band, Reject, ScreenVertex};
 use super::scratch::{TransformedVertex, TriangleRows};
 use super::varyings::{PixelLit, VertexLit};
 use super::vertex::{
     cached_corners, clip_position, coloured_light, corner_lights, flat_corner_lights, project, projected, texel,
-    texel_scale, vertex_lit_screen, vertex_varyings, Projected,
+    texel_scale, vertex_lit_screen, vertex_varyings, Projected, VertexLight,
 };
 use super::{Context, DrawSetup, Mode, Shading, Stats};
 use crate::format::Material;
@@ -31,12 +31,21 @@ pub(crate) struct Surface<'a, 'm> {
     pub(crate) fast: Option<Repeat565<'m>>,
     /// The draw's transform mirrors (negative determinant): front faces wind the other way.
     pub(crate) flip: bool,
+    /// Every corner's light is white (the same on all three channels): grey lights and no
+    /// vertex colours (see [`Context::grey_light`]). Else each triangle's corners tell.
+    pub(crate) white: bool,
 }
 
 impl<'a, 'm> Surface<'a, 'm> {
-    /// The surface of `material` with `sampler`, for a draw whose transform mirrors or not.
-    pub(crate) fn new(material: &'a Material, sampler: Option<&'a Sampler<'m>>, flip: bool) -> Self {
-        Surface { material, sampler, fast: sampler.and_then(Repeat565::new), flip }
+    /// The surface of `material` with `sampler`, for draw `s`.
+    pub(crate) fn new<const L: usize>(
+        material: &'a Material,
+        sampler: Option<&'a Sampler<'m>>,
+        ctx: &Context<'_, L>,
+        s: &DrawSetup<'_>,
+    ) -> Self {
+        let white = ctx.grey_light && !s.arrays.has_colors();
+        Surface { material, sampler, fast: sampler.and_then(Repeat565::new), flip: s.flip, white }
     }
 }
 
@@ -51,10 +60,15 @@ pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
 ) -> TriangleRows {
     match front_end(ctx, s, t, surface, stats) {
         Front::Done(rows) => rows,
-        // The common case, straight to the fill: a filled triangle whose facing and rows the
-        // front end found (what `draw_polygon` would do with them, without its other cases).
+        // The common case, straight to the fill from the vertex cache.
+        Front::Cached(p, flat, area, rows) => {
+            fill(band, ctx, Corners::Cached(&p, flat.as_ref()), Some(area), surface, stats);
+            rows
+        }
+        // A filled triangle whose facing and rows the front end found (what `draw_polygon`
+        // would do with them, without its other cases).
         Front::Inside(tri, (Some(area), Some(rows))) if ctx.opts.mode == Mode::Solid => {
-            fill(band, ctx, &tri, Some(area), surface, stats);
+            fill(band, ctx, Corners::Screen(&tri), Some(area), surface, stats);
             rows
         }
         Front::Inside(tri, known) => draw_polygon(band, ctx, &tri, known, surface, stats),
@@ -63,9 +77,12 @@ pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
 }
 
 /// What the per-triangle front end leaves to draw.
-enum Front {
+enum Front<'c> {
     /// Nothing to draw in this band; the rows it can touch (for [`Scratch`](super::Scratch)).
     Done(TriangleRows),
+    /// To fill from the vertex cache, in the guard band with no clipping: its corners, flat
+    /// shading's corner lights, its area (from [`facing`]) and rows.
+    Cached([&'c TransformedVertex; 3], Option<[VertexLight; 3]>, i64, TriangleRows),
     /// Projected, wholly inside the clipping planes, with what [`facing`] and
     /// [`TriangleRows::of`] said when known.
     Inside([ScreenVertex; 3], (Option<i64>, Option<TriangleRows>)),
@@ -77,13 +94,13 @@ enum Front {
 /// there and need nothing more (the common case, [`cached_front`]), else transformed here
 /// ([`full_varyings`]). Not inlined: its temporaries leave the stack before the rasterizer runs.
 #[inline(never)]
-fn front_end<const L: usize>(
+fn front_end<'c, const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'c>,
     t: u32,
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
-) -> Front {
+) -> Front<'c> {
     let idx = s.arrays.triangle(t);
     // Cached corners whose triangle needs no clipping; else fresh ones.
     if let Some(p) = s.vertices.and_then(|cache| cached_corners(cache, &idx)) {
@@ -117,13 +134,13 @@ fn front_end<const L: usize>(
 /// no clipping: the cache vouches that they are in the guard band with positive finite `1/w`s
 /// (see [`TransformedVertex::new`]), so only the view, facing and band tests remain.
 #[inline(always)]
-fn cached_front<const L: usize>(
+fn cached_front<'c, const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
-    (idx, p): (&[u32; 3], [&TransformedVertex; 3]),
+    s: &DrawSetup<'c>,
+    (idx, p): (&[u32; 3], [&'c TransformedVertex; 3]),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
-) -> Front {
+) -> Front<'c> {
     if classify(p.map(|p| p.outcode)) == ClipResult::Outside {
         stats.culled_frustum += 1;
         return Front::Done(TriangleRows::EMPTY);
@@ -134,8 +151,11 @@ fn cached_front<const L: usize>(
         Ok((area, rows)) => (area, Some(rows)),
         Err(rows) => return Front::Done(rows),
     };
-    // Not `p.map(..)`: an out-of-line call here.
     let flat = (ctx.opts.shading == Shading::Flat).then(|| flat_corner_lights(ctx, s, idx));
+    if let ((Some(area), Some(rows)), Mode::Solid) = (known, ctx.opts.mode) {
+        return Front::Cached(p, flat, area, rows);
+    }
+    // Not `p.map(..)`: an out-of-line call here.
     let light = |k: usize| flat.map_or_else(|| p[k].light(), |l| l[k]);
     Front::Inside(core::array::from_fn(|k| p[k].screen_vertex(light(k))), known)
 }
@@ -192,7 +212,7 @@ fn full_varyings<const L: usize>(
     known: (Option<i64>, Option<TriangleRows>),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
-) -> Front {
+) -> Front<'static> {
     let scale = texel_scale(surface.sampler);
     let phong = ctx.opts.shading == Shading::Phong;
     if class == ClipResult::Inside && !phong {
@@ -285,7 +305,7 @@ fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
         for k in 1..screen.len() - 1 {
             // A triangle's area is the polygon's; fan pieces get their own.
             let known = (screen.len() == 3).then_some(area);
-            fan_triangle(screen, k, |tri| fill(band, ctx, tri, known, surface, stats));
+            fan_triangle(screen, k, |tri| fill(band, ctx, Corners::Screen(tri), known, surface, stats));
         }
     }
     if matches!(mode, Mode::Wireframe | Mode::Points | Mode::SolidWireframe) {

@@ -64,6 +64,36 @@ pub struct ScreenVertex {
     pub varyings: ScreenVaryings,
 }
 
+/// What the set-up reads of a corner: a [`ScreenVertex`] with only the `V` varyings a variant
+/// interpolates (built where the variant is known, so the common path carries no more).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Corner<const V: usize> {
+    /// x and y in 1/16 pixel, as [`ScreenVertex`]'s.
+    pub(crate) x: FDot4,
+    pub(crate) y: FDot4,
+    /// Depth 0 (near) ..= 1 (far).
+    pub(crate) z: f32,
+    /// `1 / w`.
+    pub(crate) inv_w: f32,
+    /// The first `V` varyings.
+    pub(crate) v: [FDot16; V],
+}
+
+impl<const V: usize> Corner<V> {
+    /// The corner at `(x, y)` (28.4) with depth `z`, `1/w` and the first `V` of `varyings`.
+    #[inline(always)]
+    pub(crate) fn new((x, y): (FDot4, FDot4), z: f32, inv_w: f32, varyings: &ScreenVaryings) -> Self {
+        const { assert!(V <= super::varyings::MAX_VARYINGS) };
+        Corner { x, y, z, inv_w, v: core::array::from_fn(|k| varyings[k]) }
+    }
+
+    /// The corner of a screen vertex.
+    #[inline(always)]
+    pub(crate) fn of(s: &ScreenVertex) -> Self {
+        Self::new((s.x, s.y), s.z, s.inv_w, &s.varyings)
+    }
+}
+
 /// Rows and columns a triangle may touch: the band, in frame pixel coordinates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Window {
@@ -86,7 +116,7 @@ struct Edge {
 
 impl Edge {
     /// The edge from `p` to `q`, with its origin at the pixel-centre `(ox, oy)` (28.4).
-    fn new(p: &ScreenVertex, q: &ScreenVertex, ox: i32, oy: i32) -> Edge {
+    fn new<const V: usize>(p: &Corner<V>, q: &Corner<V>, ox: i32, oy: i32) -> Edge {
         let a = p.y - q.y;
         let b = q.x - p.x;
         let owned = a > 0 || (a == 0 && b < 0);
@@ -242,14 +272,14 @@ impl<const V: usize> Setup<V> {
     /// # Errors
     /// The [`Reject`] that says why nothing is drawn.
     pub fn new(tri: &[ScreenVertex; 3], win: &Window, cull_back: bool, flip: bool) -> Result<Self, Reject> {
-        Self::with_area(tri, win, facing(tri, cull_back, flip)?, false)
+        Self::with_area(&tri.each_ref().map(Corner::of), win, facing(tri, cull_back, flip)?, false)
     }
 
     /// [`Setup::new`] for a triangle that already passed [`facing`], which gave `area`; with
     /// `fpu`, as [`Setup::use_fpu_perspective`] makes it, without the integer perspective's
     /// per-triangle values.
     #[inline(always)]
-    pub(crate) fn with_area(tri: &[ScreenVertex; 3], win: &Window, area: i64, fpu: bool) -> Result<Self, Reject> {
+    pub(crate) fn with_area(tri: &[Corner<V>; 3], win: &Window, area: i64, fpu: bool) -> Result<Self, Reject> {
         let [p0, p1, p2] = tri;
         // Within i32 for every triangle of the guard band (see `facing_in_guard_band`).
         let area = i32::try_from(area).map_err(|_| Reject::OutsideGuardBand)?;
@@ -301,9 +331,9 @@ impl<const V: usize> Setup<V> {
             (q, q[0].min(q[1]).min(q[2]))
         };
 
-        let v0 = core::array::from_fn(|k| a.varyings[k]);
-        let d1 = core::array::from_fn(|k| b.varyings[k].wrapping_sub(a.varyings[k]));
-        let d2 = core::array::from_fn(|k| c.varyings[k].wrapping_sub(a.varyings[k]));
+        let v0 = a.v;
+        let d1 = core::array::from_fn(|k| b.v[k].wrapping_sub(a.v[k]));
+        let d2 = core::array::from_fn(|k| c.v[k].wrapping_sub(a.v[k]));
         Ok(Setup {
             edges,
             x0,
