@@ -473,16 +473,8 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         let mut draw = |t: u32, stats: &mut Stats| draw_triangle(band, ctx, &setup, t, &surface, stats);
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
             Some(seen) => {
-                let (start, end) = (ctx.window.row_start, ctx.window.row_end);
-                // The triangles drawn are counted, not the ones skipped: in a band of a frame
-                // of many, most are skipped, so that loop is kept to the test alone.
-                let mut touched = 0;
-                for (t, r) in range.zip(seen.iter_mut()) {
-                    if r.may_touch(start, end) {
-                        *r = draw(t, &mut stats);
-                        touched += 1;
-                    }
-                }
+                let band_rows = (ctx.window.row_start, ctx.window.row_end);
+                let touched = draw_touching(seen, range.start, band_rows, &mut stats, &mut draw);
                 stats.outside_band += sub.triangle_count - touched;
             }
             None => range.for_each(|t| {
@@ -491,6 +483,28 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         }
     }
     stats
+}
+
+/// Draws (with `draw`) the triangles from `first` on whose rows `seen` may touch rows
+/// `start..end`, learning their rows, and returns how many. Out of line, a loop of its own: in a
+/// band of a frame of many, most triangles are skipped, and the bounds stay in registers. The
+/// triangles drawn are counted, not the ones skipped, so that loop is the test alone.
+#[inline(never)]
+fn draw_touching(
+    seen: &mut [TriangleRows],
+    first: u32,
+    (start, end): (i32, i32),
+    stats: &mut Stats,
+    draw: &mut impl FnMut(u32, &mut Stats) -> TriangleRows,
+) -> u32 {
+    let mut touched = 0;
+    for (t, r) in (first..).zip(seen.iter_mut()) {
+        if r.may_touch(start, end) {
+            *r = draw(t, stats);
+            touched += 1;
+        }
+    }
+    touched
 }
 
 /// The material sub-mesh `sub` draws with (the default one when it has none).
