@@ -128,7 +128,7 @@ pub(crate) fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     tri: Corners<'_>,
-    area: Option<i64>,
+    area: Option<i32>,
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) {
@@ -155,7 +155,7 @@ pub(crate) fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
 struct Winding {
     cull_back: bool,
     flip: bool,
-    area: Option<i64>,
+    area: Option<i32>,
 }
 
 /// [`fill`] for one base colour source: picks the lighting and dithering variant. `white`: the

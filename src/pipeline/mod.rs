@@ -41,7 +41,7 @@ use crate::light::{FixedLights, Lights, PixelLights, PreparedLights};
 use crate::math::{normal_matrix, FixedTransform, Mat3, Mat4, Vec3};
 use crate::target::{Band, DepthBuffer, FrameColor, GUARD_HALF_EXTENT};
 use crate::texture::{Filter, Sampler};
-use primitive::{draw_triangle, Surface};
+use primitive::{draw_triangle, Learnt, Surface};
 use raster::Window;
 
 /// How surfaces are lit.
@@ -470,7 +470,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         let sampler = ctx.sampler(model, mesh, &material);
         let surface = Surface::new(&material, sampler.as_ref(), ctx, &setup);
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
-        let mut draw = |t: u32, stats: &mut Stats| draw_triangle(band, ctx, &setup, t, &surface, stats);
+        let mut draw = |t, stats: &mut Stats| draw_triangle(band, ctx, &setup, t, &surface, stats);
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
             Some(seen) => {
                 let band_rows = (ctx.window.row_start, ctx.window.row_end);
@@ -478,7 +478,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
                 stats.outside_band += sub.triangle_count - touched;
             }
             None => range.for_each(|t| {
-                draw(t, &mut stats);
+                draw((t, None), &mut stats);
             }),
         }
     }
@@ -495,12 +495,13 @@ fn draw_touching(
     first: u32,
     (start, end): (i32, i32),
     stats: &mut Stats,
-    draw: &mut impl FnMut(u32, &mut Stats) -> TriangleRows,
+    draw: &mut impl FnMut((u32, Option<Learnt>), &mut Stats) -> TriangleRows,
 ) -> u32 {
     let mut touched = 0;
     for (t, r) in (first..).zip(seen.iter_mut()) {
         if r.may_touch(start, end) {
-            *r = draw(t, stats);
+            let learnt = (*r != TriangleRows::UNKNOWN).then_some(Learnt(*r));
+            *r = draw((t, learnt), stats);
             touched += 1;
         }
     }

@@ -8,12 +8,12 @@ use super::clip::{
 };
 use super::fragment::{fill, Corners};
 use super::line::{line, plot};
-use super::raster::{facing, facing_in_guard_band, in_guard_band, Reject, ScreenVertex};
+use super::raster::{area_in_guard_band, facing, facing_in_guard_band, in_guard_band, Reject, ScreenVertex};
 use super::scratch::{TransformedVertex, TriangleRows};
 use super::varyings::{PixelLit, VertexLit};
 use super::vertex::{
     cached_corners, clip_position, coloured_light, corner_lights, flat_corner_lights, project, projected, texel,
-    texel_scale, vertex_lit_screen, vertex_varyings, Projected, VertexLight,
+    texel_scale, vertex_lit_screen, vertex_varyings, Projected,
 };
 use super::{Context, DrawSetup, Mode, Shading, Stats};
 use crate::format::Material;
@@ -50,7 +50,102 @@ impl<'a, 'm> Surface<'a, 'm> {
 }
 
 /// Draws triangle `t` and returns the rows it can touch (for [`Scratch`](super::Scratch)).
+/// `learnt`: its rows when an earlier band of this frame learnt them (see [`Learnt`]).
+#[inline(always)]
 pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    (t, learnt): (u32, Option<Learnt>),
+    surface: &Surface<'_, '_>,
+    stats: &mut Stats,
+) -> TriangleRows {
+    match front_end(ctx, s, (t, learnt), surface, stats) {
+        Front::Done(rows) => rows,
+        // The common case, straight to the fill from the vertex cache.
+        Front::Cached(p, area, rows) => {
+            let flat = (ctx.opts.shading == Shading::Flat).then(|| flat_corner_lights(ctx, s, &s.arrays.triangle(t)));
+            fill(band, ctx, Corners::Cached(&p, flat.as_ref()), Some(area), surface, stats);
+            rows
+        }
+        Front::Other => draw_other(band, ctx, s, t, surface, stats),
+    }
+}
+
+/// The rows of a triangle that an earlier band of this frame learnt (see
+/// [`Scratch`](super::Scratch)), not empty and touching this band: that band found it in front
+/// of the eye and inside the view, facing the viewer and not degenerate (see [`cull`]), and a
+/// filled triangle of cached corners is not tested for that again.
+#[derive(Clone, Copy)]
+pub(crate) struct Learnt(pub(crate) TriangleRows);
+
+/// What the front end of the common case leaves to draw: small, as it lives in the frame of
+/// every triangle's loop.
+enum Front<'c> {
+    /// Nothing to draw in this band; the rows it can touch (for [`Scratch`](super::Scratch)).
+    Done(TriangleRows),
+    /// To fill from the vertex cache, in the guard band with no clipping: its corners, its area
+    /// (from [`facing`]) and rows.
+    Cached([&'c TransformedVertex; 3], i32, TriangleRows),
+    /// Not the common case: [`draw_other`] does it all.
+    Other,
+}
+
+/// The common case's front end: a filled triangle whose corners are cached and need no
+/// clipping, culled and tested against the band here (or not again, when `learnt`); every
+/// other triangle is [`Front::Other`]. Not inlined: its temporaries leave the stack before the
+/// rasterizer runs.
+#[inline(never)]
+fn front_end<'c, const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'c>,
+    (t, learnt): (u32, Option<Learnt>),
+    surface: &Surface<'_, '_>,
+    stats: &mut Stats,
+) -> Front<'c> {
+    let idx = s.arrays.triangle(t);
+    let Some(p) = s.vertices.and_then(|cache| cached_corners(cache, &idx)) else {
+        return Front::Other;
+    };
+    if (p[0].outcode | p[1].outcode | p[2].outcode) & (NEEDS_CLIP | NOT_FINITE) != 0 || ctx.opts.mode != Mode::Solid {
+        return Front::Other;
+    }
+    let xy = p.map(|p| (i32::from(p.xy[0]), i32::from(p.xy[1])));
+    if let Some(Learnt(rows)) = learnt {
+        // The tests below passed in the band that learnt its rows (the same corners).
+        debug_assert!(cached_tests(ctx, (p, xy), surface, &mut Stats::default()).is_ok_and(|k| k.1 == rows));
+        return Front::Cached(p, area_in_guard_band(xy), rows);
+    }
+    match cached_tests(ctx, (p, xy), surface, stats) {
+        Ok((Some(area), rows)) => Front::Cached(p, area, rows),
+        Ok((None, _)) => Front::Other,
+        Err(rows) => Front::Done(rows),
+    }
+}
+
+/// The view, facing and band tests of a triangle whose corners `p` (at `xy`) are cached, finite
+/// and need no clipping: the cache vouches that they are in the guard band with positive
+/// finite `1/w`s (see [`TransformedVertex::new`]). What [`cull`] says.
+#[inline(always)]
+fn cached_tests<const L: usize>(
+    ctx: &Context<'_, L>,
+    (p, xy): ([&TransformedVertex; 3], [(i32, i32); 3]),
+    surface: &Surface<'_, '_>,
+    stats: &mut Stats,
+) -> Result<(Option<i32>, TriangleRows), TriangleRows> {
+    if classify(p.map(|p| p.outcode)) == ClipResult::Outside {
+        stats.culled_frustum += 1;
+        return Err(TriangleRows::EMPTY);
+    }
+    let facing = facing_in_guard_band(xy, surface.material.cull_back_faces, surface.flip);
+    cull(ctx, facing, xy.map(|p| p.1), stats)
+}
+
+/// Draws triangle `t` when it is not the common case of [`front_end`]: drawn without the vertex
+/// cache, crossing a clipping plane, or in another mode than [`Mode::Solid`]. Not inlined: the
+/// screen vertices and polygons stay off the common path's stack.
+#[inline(never)]
+fn draw_other<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
@@ -58,61 +153,53 @@ pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {
-    match front_end(ctx, s, t, surface, stats) {
-        Front::Done(rows) => rows,
-        // The common case, straight to the fill from the vertex cache.
-        Front::Cached(p, flat, area, rows) => {
-            fill(band, ctx, Corners::Cached(&p, flat.as_ref()), Some(area), surface, stats);
-            rows
-        }
+    match other_front(ctx, s, t, surface, stats) {
+        Other::Done(rows) => rows,
         // A filled triangle whose facing and rows the front end found (what `draw_polygon`
         // would do with them, without its other cases).
-        Front::Inside(tri, (Some(area), Some(rows))) if ctx.opts.mode == Mode::Solid => {
+        Other::Inside(tri, (Some(area), Some(rows))) if ctx.opts.mode == Mode::Solid => {
             fill(band, ctx, Corners::Screen(&tri), Some(area), surface, stats);
             rows
         }
-        Front::Inside(tri, known) => draw_polygon(band, ctx, &tri, known, surface, stats),
-        Front::Clipped(tri) => draw_clipped(band, ctx, &tri, surface, stats),
+        Other::Inside(tri, known) => draw_polygon(band, ctx, &tri, known, surface, stats),
+        Other::Clipped(tri) => draw_clipped(band, ctx, &tri, surface, stats),
     }
 }
 
-/// What the per-triangle front end leaves to draw.
-enum Front<'c> {
+/// What [`other_front`] leaves to draw.
+enum Other {
     /// Nothing to draw in this band; the rows it can touch (for [`Scratch`](super::Scratch)).
     Done(TriangleRows),
-    /// To fill from the vertex cache, in the guard band with no clipping: its corners, flat
-    /// shading's corner lights, its area (from [`facing`]) and rows.
-    Cached([&'c TransformedVertex; 3], Option<[VertexLight; 3]>, i64, TriangleRows),
     /// Projected, wholly inside the clipping planes, with what [`facing`] and
     /// [`TriangleRows::of`] said when known.
-    Inside([ScreenVertex; 3], (Option<i64>, Option<TriangleRows>)),
+    Inside([ScreenVertex; 3], (Option<i32>, Option<TriangleRows>)),
     /// Crosses a clipping plane: cut it first.
     Clipped([ClipVertex; 3]),
 }
 
-/// Fetch, cull, light and classify triangle `t`: from the vertex cache when its corners are
-/// there and need nothing more (the common case, [`cached_front`]), else transformed here
-/// ([`full_varyings`]). Not inlined: its temporaries leave the stack before the rasterizer runs.
-#[inline(never)]
-fn front_end<'c, const L: usize>(
+/// Fetch, cull, light and classify triangle `t` for [`draw_other`]: from the vertex cache when
+/// its corners are there and need no clipping ([`cached_screen`]), else transformed here
+/// ([`full_varyings`]).
+#[inline(always)]
+fn other_front<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'c>,
+    s: &DrawSetup<'_>,
     t: u32,
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
-) -> Front<'c> {
+) -> Other {
     let idx = s.arrays.triangle(t);
     // Cached corners whose triangle needs no clipping; else fresh ones.
     if let Some(p) = s.vertices.and_then(|cache| cached_corners(cache, &idx)) {
         if (p[0].outcode | p[1].outcode | p[2].outcode) & (NEEDS_CLIP | NOT_FINITE) == 0 {
-            return cached_front(ctx, s, (&idx, p), surface, stats);
+            return cached_screen(ctx, s, (&idx, p), surface, stats);
         }
     }
     let p = idx.map(|i| projected(ctx, s, i));
     let class = classify(p.map(|p| p.outcode));
     if class == ClipResult::Outside {
         stats.culled_frustum += 1;
-        return Front::Done(TriangleRows::EMPTY);
+        return Other::Done(TriangleRows::EMPTY);
     }
     let mut known = (None, None);
     if w_ok(p.map(|p| p.inv_w)) {
@@ -124,40 +211,31 @@ fn front_end<'c, const L: usize>(
         };
         match cull(ctx, facing, xy.map(|p| p.1), stats) {
             Ok((area, rows)) => known = (area, Some(rows)),
-            Err(rows) => return Front::Done(rows),
+            Err(rows) => return Other::Done(rows),
         }
     }
     full_varyings(ctx, s, (&idx, &p, class), known, surface, stats)
 }
 
-/// [`front_end`] of a triangle whose corners `p` (indices `idx`) are cached, finite and need
-/// no clipping: the cache vouches that they are in the guard band with positive finite `1/w`s
-/// (see [`TransformedVertex::new`]), so only the view, facing and band tests remain.
+/// [`other_front`] of a triangle whose corners `p` (indices `idx`) are cached, finite and need
+/// no clipping: tested as [`front_end`] does, then made screen vertices.
 #[inline(always)]
-fn cached_front<'c, const L: usize>(
+fn cached_screen<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'c>,
-    (idx, p): (&[u32; 3], [&'c TransformedVertex; 3]),
+    s: &DrawSetup<'_>,
+    (idx, p): (&[u32; 3], [&TransformedVertex; 3]),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
-) -> Front<'c> {
-    if classify(p.map(|p| p.outcode)) == ClipResult::Outside {
-        stats.culled_frustum += 1;
-        return Front::Done(TriangleRows::EMPTY);
-    }
+) -> Other {
     let xy = p.map(|p| (i32::from(p.xy[0]), i32::from(p.xy[1])));
-    let facing = facing_in_guard_band(xy, surface.material.cull_back_faces, surface.flip);
-    let known = match cull(ctx, facing, xy.map(|p| p.1), stats) {
+    let known = match cached_tests(ctx, (p, xy), surface, stats) {
         Ok((area, rows)) => (area, Some(rows)),
-        Err(rows) => return Front::Done(rows),
+        Err(rows) => return Other::Done(rows),
     };
     let flat = (ctx.opts.shading == Shading::Flat).then(|| flat_corner_lights(ctx, s, idx));
-    if let ((Some(area), Some(rows)), Mode::Solid) = (known, ctx.opts.mode) {
-        return Front::Cached(p, flat, area, rows);
-    }
     // Not `p.map(..)`: an out-of-line call here.
     let light = |k: usize| flat.map_or_else(|| p[k].light(), |l| l[k]);
-    Front::Inside(core::array::from_fn(|k| p[k].screen_vertex(light(k))), known)
+    Other::Inside(core::array::from_fn(|k| p[k].screen_vertex(light(k))), known)
 }
 
 /// Whether every corner's `1/w` is positive and finite: the triangle is wholly in front of the
@@ -170,19 +248,21 @@ fn w_ok(inv_w: [f32; 3]) -> bool {
 /// The back-face and band tests of a triangle wholly in front of the eye, whose corners'
 /// snapped positions have the y coordinates `ys` and whose [`facing`] (or why the rasterizer
 /// would refuse it) is `facing`: its area (when the rasterizer will take it) and rows, or the
-/// rows to return when it is done here. Back faces are rejected before any lighting:
+/// rows to return when it is done here. Back faces and degenerate triangles are rejected before any lighting:
 /// projection keeps the winding, and the snapped positions are the ones the rasterizer gets,
 /// so the decision is the same one it would make.
 #[inline(always)]
 fn cull<const L: usize>(
     ctx: &Context<'_, L>,
-    facing: Result<i64, Reject>,
+    facing: Result<i32, Reject>,
     ys: [i32; 3],
     stats: &mut Stats,
-) -> Result<(Option<i64>, TriangleRows), TriangleRows> {
+) -> Result<(Option<i32>, TriangleRows), TriangleRows> {
     let area = match facing {
-        Err(Reject::BackFace) => {
-            stats.culled_back_face += 1;
+        // Nothing to draw in any band (see `draw_polygon`): said once, so that rows learnt
+        // here vouch for a front face of some area (see `Learnt`).
+        Err(r @ (Reject::BackFace | Reject::Degenerate)) => {
+            stats.count_reject(r);
             return Err(TriangleRows::EMPTY);
         }
         // Kept for the rasterizer if the triangle is drawn unclipped (same positions).
@@ -209,10 +289,10 @@ fn full_varyings<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     (idx, p, class): (&[u32; 3], &[Projected; 3], ClipResult),
-    known: (Option<i64>, Option<TriangleRows>),
+    known: (Option<i32>, Option<TriangleRows>),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
-) -> Front<'static> {
+) -> Other {
     let scale = texel_scale(surface.sampler);
     let phong = ctx.opts.shading == Shading::Phong;
     if class == ClipResult::Inside && !phong {
@@ -221,26 +301,26 @@ fn full_varyings<const L: usize>(
         let texels = idx.map(|i| texel(s, i, scale));
         if !finite_varyings(&texels, 2) {
             stats.culled_frustum += 1;
-            return Front::Done(TriangleRows::EMPTY);
+            return Other::Done(TriangleRows::EMPTY);
         }
         let light = corner_lights(ctx, s, idx);
         let tri = core::array::from_fn(|k| {
             p[k].screen_vertex(vertex_lit_screen(texels[k], coloured_light(s, idx[k], light[k])))
         });
-        return Front::Inside(tri, known);
+        return Other::Inside(tri, known);
     }
     let varyings = vertex_varyings(ctx, s, idx, scale);
     let maybe_not_finite = if phong { PixelLit::LEN } else { VertexLit::LIGHT };
     if !finite_varyings(&varyings, maybe_not_finite) {
         stats.culled_frustum += 1;
-        return Front::Done(TriangleRows::EMPTY);
+        return Other::Done(TriangleRows::EMPTY);
     }
     if class == ClipResult::Inside {
         // Saturating casts: huge UVs clamp instead of wrapping.
         let tri = core::array::from_fn(|k| p[k].screen_vertex(varyings[k].map(crate::math::to_i32)));
-        return Front::Inside(tri, known);
+        return Other::Inside(tri, known);
     }
-    Front::Clipped(core::array::from_fn(|k| ClipVertex { pos: clip_position(s, idx[k]), varyings: varyings[k] }))
+    Other::Clipped(core::array::from_fn(|k| ClipVertex { pos: clip_position(s, idx[k]), varyings: varyings[k] }))
 }
 
 /// Cuts a triangle that crosses a clipping plane and draws what is left. Not inlined: the
@@ -280,7 +360,7 @@ fn draw_polygon<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     screen: &[ScreenVertex],
-    (area, rows): (Option<i64>, Option<TriangleRows>),
+    (area, rows): (Option<i32>, Option<TriangleRows>),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {

@@ -220,12 +220,12 @@ pub const MAX_COORD: i32 = 1 << 24;
 ///
 /// # Errors
 /// [`Reject::Degenerate`] for zero area, [`Reject::BackFace`] for a culled back face.
-pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
+pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i32, Reject> {
     facing_of(tri.each_ref().map(|v| (v.x, v.y, v.inv_w)), cull_back, flip)
 }
 
 /// [`facing`] of the vertices' `(x, y, 1/w)`.
-pub(crate) fn facing_of(p: [(i32, i32, f32); 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
+pub(crate) fn facing_of(p: [(i32, i32, f32); 3], cull_back: bool, flip: bool) -> Result<i32, Reject> {
     let w_ok = crate::math::is_positive_finite;
     if !(in_guard_band(p.map(|p| (p.0, p.1))) && p.iter().all(|p| w_ok(p.2))) {
         return Err(Reject::OutsideGuardBand);
@@ -248,20 +248,27 @@ pub(crate) fn in_guard_band(p: [(i32, i32); 3]) -> bool {
 
 /// [`facing_of`] of positions already known [`in_guard_band`], with positive finite `1/w`s.
 #[inline(always)]
-pub(crate) fn facing_in_guard_band(p: [(i32, i32); 3], cull_back: bool, flip: bool) -> Result<i64, Reject> {
-    debug_assert!(in_guard_band(p));
-    let [p0, p1, p2] = p;
-    // Coordinates are less than `MAX_EXTENT` < 2^15 apart (in the guard band): each product is
-    // below 2^30 in magnitude and their difference below 2 · (MAX_EXTENT - 1)^2 < 2^31, so the
-    // area is exact in i32 (one multiply and one multiply-subtract).
-    let area = (p1.0 - p0.0) * (p2.1 - p0.1) - (p2.0 - p0.0) * (p1.1 - p0.1);
+pub(crate) fn facing_in_guard_band(p: [(i32, i32); 3], cull_back: bool, flip: bool) -> Result<i32, Reject> {
+    let area = area_in_guard_band(p);
     if area == 0 {
         return Err(Reject::Degenerate);
     }
     if cull_back && (area < 0) == flip {
         return Err(Reject::BackFace);
     }
-    Ok(area.into())
+    Ok(area)
+}
+
+/// Twice the signed image-space area of positions `p` known [`in_guard_band`] (see
+/// [`facing`]).
+#[inline(always)]
+pub(crate) fn area_in_guard_band(p: [(i32, i32); 3]) -> i32 {
+    debug_assert!(in_guard_band(p));
+    let [p0, p1, p2] = p;
+    // Coordinates are less than `MAX_EXTENT` < 2^15 apart (in the guard band): each product is
+    // below 2^30 in magnitude and their difference below 2 · (MAX_EXTENT - 1)^2 < 2^31, so the
+    // area is exact in i32 (one multiply and one multiply-subtract).
+    (p1.0 - p0.0) * (p2.1 - p0.1) - (p2.0 - p0.0) * (p1.1 - p0.1)
 }
 
 impl<const V: usize> Setup<V> {
@@ -279,10 +286,8 @@ impl<const V: usize> Setup<V> {
     /// `fpu`, as [`Setup::use_fpu_perspective`] makes it, without the integer perspective's
     /// per-triangle values.
     #[inline(always)]
-    pub(crate) fn with_area(tri: &[Corner<V>; 3], win: &Window, area: i64, fpu: bool) -> Result<Self, Reject> {
+    pub(crate) fn with_area(tri: &[Corner<V>; 3], win: &Window, area: i32, fpu: bool) -> Result<Self, Reject> {
         let [p0, p1, p2] = tri;
-        // Within i32 for every triangle of the guard band (see `facing_in_guard_band`).
-        let area = i32::try_from(area).map_err(|_| Reject::OutsideGuardBand)?;
         // Reorder so the inside is E > 0 (positive image-space area).
         let (a, b, c) = if area > 0 { (p0, p1, p2) } else { (p0, p2, p1) };
         let af = F32::from(area.unsigned_abs());
