@@ -187,30 +187,19 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     let raster = (&ctx.window, ctx.opts.subspan, lit.affine_tolerance_light(), !ctx.opts.fixed_vertices);
     // One monomorphised loop per lighting (with its number of varyings) and dithering.
     macro_rules! with_dither {
-        ($varyings:expr, $lighting:expr) => {
+        ($varyings:expr, $lighting:expr) => {{
+            // See `VariantCorners`.
+            #[cfg(not(soft_float))]
+            let corners = &tri.corners::<{ $varyings }>();
+            #[cfg(soft_float)]
+            let corners = tri;
             // Formats that ignore the position take the plain path (the same pixels).
             if ctx.opts.dither && C::DITHERS {
-                fragments::<_, _, _, _, { $varyings }, true>(
-                    band,
-                    raster,
-                    &tri.corners(),
-                    winding,
-                    base,
-                    $lighting,
-                    stats,
-                )
+                fragments::<_, _, _, _, { $varyings }, true>(band, raster, corners, winding, base, $lighting, stats)
             } else {
-                fragments::<_, _, _, _, { $varyings }, false>(
-                    band,
-                    raster,
-                    &tri.corners(),
-                    winding,
-                    base,
-                    $lighting,
-                    stats,
-                )
+                fragments::<_, _, _, _, { $varyings }, false>(band, raster, corners, winding, base, $lighting, stats)
             }
-        };
+        }};
     }
     match lit {
         LitBy::White => with_dither!(VertexLit::WHITE_LEN, &White),
@@ -251,18 +240,29 @@ fn affine_tolerance<const V: usize>(other: u32) -> [u32; V] {
     core::array::from_fn(|k| if is_texel_coordinate(k) { 1 << 12 } else { other })
 }
 
+/// A variant's corners as [`fragments`] gets them: built by [`fill_with`] with an FPU (the
+/// span loop then keeps more in registers), and by `fragments` itself without one (there
+/// `fill_with`'s frame would hold every variant's, deepening the stack under the rasterizer).
+#[cfg(not(soft_float))]
+type VariantCorners<'a, const V: usize> = &'a [Corner<V>; 3];
+/// See the FPU targets' definition.
+#[cfg(soft_float)]
+type VariantCorners<'a, const V: usize> = Corners<'a>;
+
 // Not inlined: each variant's `Setup` gets its own frame instead of all of them sharing (and
 // enlarging) the caller's.
 #[inline(never)]
 fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
     (window, subspan, tolerance, fpu): (&Window, u32, u32, bool),
-    tri: &[Corner<V>; 3],
+    tri: VariantCorners<'_, V>,
     winding: Winding,
     base: &B,
     lighting: &Lt,
     stats: &mut Stats,
 ) -> Result<(), Reject> {
+    #[cfg(soft_float)]
+    let tri = &tri.corners::<V>();
     let area = match winding.area {
         Some(area) => area,
         None => facing_of(tri.each_ref().map(|c| (c.x, c.y, c.inv_w)), winding.cull_back, winding.flip)?,
