@@ -36,7 +36,7 @@ use super::varyings::ScreenVaryings;
 use crate::fixed::{
     depth40_to_30, fdot8_floor, fdot8_round, Depth30, Depth40, FDot16, FDot4, FDot8, DEPTH30_FAR, DEPTH40_ONE,
 };
-use crate::math::{max, min, wrapping_mul_small, F32};
+use crate::math::{max, min, times_16, times_power_of_two, wrapping_mul_small, F32};
 
 #[cfg(any(no_hw_divide, test))]
 mod divide;
@@ -319,14 +319,16 @@ impl<const V: usize> Setup<V> {
         let gx = (dz1 * ey2 - dz2 * ey1) / af; // per 1/16 pixel
         let gy = (dz2 * ex1 - dz1 * ex2) / af;
         let z_at_origin = az + gx * F32::from(ox - a.x) + gy * F32::from(oy - a.y);
-        let to_fixed = |v: F32| crate::math::f32_to_i64((v * F32(DEPTH40_ONE)).0);
+        // Powers of two: exact, and no soft-float multiply without an FPU.
+        let to_fixed = |v: F32| crate::math::f32_to_i64(times_power_of_two(v.0, DEPTH40_ONE));
 
         // Divided by the largest, positive and finite (`facing`): that one becomes exactly
         // `1 << Q_BITS`, the others at most that (and at least `Q_MIN`).
         let max_w = F32(max(max(a.inv_w, b.inv_w), c.inv_w));
         let inv_w = [a.inv_w, b.inv_w, c.inv_w].map(|q| F32(q) / max_w);
         let one = F32((1u32 << Q_BITS) as f32);
-        let fixed = |q: F32| crate::math::f32_to_i64((q * one).0).clamp(Q_MIN.into(), 1 << Q_BITS) as u32;
+        let fixed =
+            |q: F32| crate::math::f32_to_i64(times_power_of_two(q.0, one.0)).clamp(Q_MIN.into(), 1 << Q_BITS) as u32;
         // All of `q` only where integers work perspective out (f32 uses `inv_w`); their
         // smallest always (`fixed` keeps the order: the same value either way).
         let (q, q_min) = if fpu {
@@ -348,8 +350,8 @@ impl<const V: usize> Setup<V> {
             origin_row: fy0,
             rows_below: last_centre(max_y) - fy0,
             z_origin: to_fixed(z_at_origin),
-            z_dx: to_fixed(gx * F32(16.0)),
-            z_dy: to_fixed(gy * F32(16.0)),
+            z_dx: to_fixed(F32(times_16(gx.0))),
+            z_dy: to_fixed(F32(times_16(gy.0))),
             q,
             q_min,
             e_shift: perspective::edge_shift(area.unsigned_abs()),
@@ -676,21 +678,23 @@ impl<const V: usize> AffinePlanes<V> {
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), F32::from(edges[2].c) * inv_area);
         // At least one pixel each way: the bound below must hold `gx` and `gy` themselves too
         // (the per-pixel step is `gx`, rounded), also for a box one column or row wide.
-        let (w, h) = (F32::from(width.max(1)), F32::from(height.max(1)));
+        let (w, h) = (u64::from(width.max(1) as u32), u64::from(height.max(1) as u32));
         let mut p = AffinePlanes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
         for k in 0..V {
-            let (d1, d2) = (d1[k] * F32(256.0), d2[k] * F32(256.0));
+            // Times 256 exactly (a power of two: no soft-float multiply without an FPU).
+            let (d1, d2) = (times_power_of_two(d1[k].0, 256.0), times_power_of_two(d2[k].0, 256.0));
+            let (d1, d2) = (F32(d1), F32(d2));
             // Relative to vertex 0's value, added back in integers: large values (e.g. world
-            // positions) keep their precision.
+            // positions) keep their precision. Truncating (saturating): under one unit of 2^-8
+            // off. Finite: `d` is below 2^39 and the weights below 2^32.
             let (o, gx, gy) = (d1 * b1o + d2 * b2o, d1 * b1x + d2 * b2x, d1 * b1y + d2 * b2y);
-            // Within 2^30 with f32's rounding (a relative 2^-23) to spare; NaN fails too. So
-            // `origin + gx·x + gy·y` fits i32 for every pixel of the box, and `gx + 128` too.
-            let fits = o.abs() + gx.abs() * w + gy.abs() * h < F32((1u32 << 30) as f32);
-            if !fits {
+            let (o, gx, gy) = (o.to_i32(), gx.to_i32(), gy.to_i32());
+            // Within 2^30 in integers (a saturated value fails): `origin + gx·x + gy·y` fits i32
+            // for every pixel of the box, and `gx + 128` too.
+            let abs = |v: i32| u64::from(v.unsigned_abs());
+            if abs(o) + abs(gx) * w + abs(gy) * h >= 1 << 30 {
                 return None;
             }
-            // Truncating: under one unit of 2^-8 off.
-            let (o, gx, gy) = (o.to_i32(), gx.to_i32(), gy.to_i32());
             (p.origin[k], p.gx[k], p.gy[k], p.step[k]) = (o, gx, gy, fdot8_round(gx));
         }
         Some(p)

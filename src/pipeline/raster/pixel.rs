@@ -30,7 +30,7 @@ use super::perspective::{Q_BITS, Q_MIN};
 use super::rows::{CoveredRow, RowCursor};
 use super::Setup;
 use crate::fixed::{Depth30, FDot16};
-use crate::math::F32;
+use crate::math::{times_power_of_two, F32};
 use crate::pipeline::span::RunVaryings;
 use crate::pipeline::varyings::VertexLit;
 
@@ -177,8 +177,15 @@ impl<const V: usize> Setup<V> {
             Plane { origin: F32::from(e.c) * q[k], dx: F32::from(e.a * 16) * q[k], dy: F32::from(e.b * 16) * q[k] }
         });
         let s = n[0].sum(&n[1], &n[2]);
-        let scale = F32((1u32 << v_shift) as f32);
-        let shifted = |k: usize, v: i32| if k == VertexLit::V { F32::from(v) * scale } else { F32::from(v) };
+        // Times a power of two: exact.
+        let scale = (1u32 << v_shift) as f32;
+        let shifted = |k: usize, v: i32| {
+            if k == VertexLit::V {
+                F32(times_power_of_two(F32::from(v).0, scale))
+            } else {
+                F32::from(v)
+            }
+        };
         let t = core::array::from_fn(|k| n[1].mix(shifted(k, self.d1[k]), (shifted(k, self.d2[k]), &n[2])));
         PixelPlanes { s, t, v0: core::array::from_fn(|k| shifted(k, self.v0[k])), shift: v_shift }
     }
