@@ -690,8 +690,10 @@ impl<const V: usize> AffinePlanes<V> {
             let (o, gx, gy) = (d1 * b1o + d2 * b2o, d1 * b1x + d2 * b2x, d1 * b1y + d2 * b2y);
             let (o, gx, gy) = (o.to_i32(), gx.to_i32(), gy.to_i32());
             // Within 2^30 in integers (a saturated value fails): `origin + gx·x + gy·y` fits i32
-            // for every pixel of the box, and `gx + 128` too.
-            let abs = |v: i32| u64::from(v.unsigned_abs());
+            // for every pixel of the box, and `gx + 128` too. `x ^ (x >> 31)` is `|x|` or
+            // `|x| - 1` (one instruction): the sum is at most `1 + w + h` under the exact one,
+            // still far within i32.
+            let abs = |v: i32| u64::from((v ^ (v >> 31)) as u32);
             if abs(o) + abs(gx) * w + abs(gy) * h >= 1 << 30 {
                 return None;
             }
