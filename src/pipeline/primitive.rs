@@ -104,12 +104,9 @@ fn front_end<'c, const L: usize>(
     stats: &mut Stats,
 ) -> Front<'c> {
     let idx = s.arrays.triangle(t);
-    let Some(p) = s.vertices.and_then(|cache| cached_corners(cache, &idx)) else {
+    let Some(p) = unclipped_corners(s, &idx).filter(|_| ctx.opts.mode == Mode::Solid) else {
         return Front::Other;
     };
-    if (p[0].outcode | p[1].outcode | p[2].outcode) & (NEEDS_CLIP | NOT_FINITE) != 0 || ctx.opts.mode != Mode::Solid {
-        return Front::Other;
-    }
     let xy = p.map(|p| (i32::from(p.xy[0]), i32::from(p.xy[1])));
     if let Some(Learnt(rows)) = learnt {
         // The tests below passed in the band that learnt its rows (the same corners).
@@ -121,6 +118,14 @@ fn front_end<'c, const L: usize>(
         Ok((None, _)) => Front::Other,
         Err(rows) => Front::Done(rows),
     }
+}
+
+/// The corners `idx` from the draw's vertex cache, when it has them all and none needs
+/// clipping or is not finite (see [`TransformedVertex::new`]).
+#[inline(always)]
+fn unclipped_corners<'c>(s: &DrawSetup<'c>, idx: &[u32; 3]) -> Option<[&'c TransformedVertex; 3]> {
+    let p = s.vertices.and_then(|cache| cached_corners(cache, idx))?;
+    ((p[0].outcode | p[1].outcode | p[2].outcode) & (NEEDS_CLIP | NOT_FINITE) == 0).then_some(p)
 }
 
 /// The view, facing and band tests of a triangle whose corners `p` (at `xy`) are cached, finite
@@ -190,10 +195,8 @@ fn other_front<const L: usize>(
 ) -> Other {
     let idx = s.arrays.triangle(t);
     // Cached corners whose triangle needs no clipping; else fresh ones.
-    if let Some(p) = s.vertices.and_then(|cache| cached_corners(cache, &idx)) {
-        if (p[0].outcode | p[1].outcode | p[2].outcode) & (NEEDS_CLIP | NOT_FINITE) == 0 {
-            return cached_screen(ctx, s, (&idx, p), surface, stats);
-        }
+    if let Some(p) = unclipped_corners(s, &idx) {
+        return cached_screen(ctx, s, (&idx, p), surface, stats);
     }
     let p = idx.map(|i| projected(ctx, s, i));
     let class = classify(p.map(|p| p.outcode));
