@@ -43,9 +43,10 @@ pub trait FrameColor: Copy {
         let [r, g, b, _] = crate::format::decode_texel(crate::format::TextureFormat::Rgb565, &texel.to_le_bytes());
         Self::from_rgb888(crate::texture::modulate([r, g, b], light))
     }
-    /// An RGB565 texel lit by white `light` (16.16): [`FrameColor::from_lit_rgb565`] with the
-    /// light on every channel. RGB565 formats override it with
-    /// `texture::modulate565_white` (within one step of that).
+    /// An RGB565 texel lit by white `light` (16.16) interpolated from vertex lights in 0..=1
+    /// (so within `-1/64 .. 1 + 1/64`): [`FrameColor::from_lit_rgb565`] with the light on
+    /// every channel. RGB565 formats override it with `texture::modulate565_white` (within one
+    /// step of that; outside that range of light, some other colour).
     #[inline(always)]
     fn from_white_lit_rgb565(texel: u16, light: i32) -> Self {
         Self::from_lit_rgb565(texel, [light; 3])

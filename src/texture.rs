@@ -232,21 +232,28 @@ const SPREAD565: u32 = 0x07E0_F81F;
 /// Half of 32 in each spread field: rounds the products to nearest.
 const SPREAD565_HALF: u32 = 16 << 21 | 16 << 11 | 16;
 
-/// `texel · light` for white light (16.16, the same on all channels), the way the fastest MCU
-/// renderers do it: the light rounded to 1/32 (0..=32) multiplies all three fields at once,
-/// spread apart in one 32-bit word (no field overflows into the next: 63 · 32 + 16 < 2^11).
-/// About a third of [`modulate565`]'s instructions, and within one RGB565 step of it (checked
-/// exhaustively in the tests): the light's rounding error is at most 1/64, which moves a
-/// 6-bit field by less than one step. Light outside 0..=1 is clamped, as `modulate565` does.
+/// `texel · light` for white light (16.16, the same on all channels) interpolated from vertex
+/// lights in 0..=1, the way the fastest MCU renderers do it: the light rounded to 1/32
+/// (0..=32) multiplies all three fields at once, spread apart in one 32-bit word (no field
+/// overflows into the next: 63 · 32 + 16 < 2^11). About a third of [`modulate565`]'s
+/// instructions, and within one RGB565 step of it (checked exhaustively in the tests): the
+/// light's rounding error is at most 1/64, which moves a 6-bit field by less than one step.
+///
+/// Interpolated light lies within `-1/64 .. 1 + 1/64` (interpolation is off by at most 1/256,
+/// see `fragment::LitBy::affine_tolerance_light`); there this equals clamping it to 0..=1
+/// first, and needs no clamp at the top: two instructions for the level on Cortex-M instead
+/// of seven. Light above that range gives some other RGB565 value (a field may carry into the
+/// next), never a panic in a release build.
 #[inline(always)]
 #[must_use]
-pub fn modulate565_white(texel: u16, light: i32) -> u16 {
-    // Clamped to 6 bits first: one instruction (usat) on Cortex-M. Wrapping: light far outside
-    // 0..=1 is clamped either way, up to its sign.
-    let level = ((light.wrapping_add(1 << 10) >> 11).clamp(0, 63) as u32).min(32);
+pub(crate) fn modulate565_white(texel: u16, light: i32) -> u16 {
+    debug_assert!((-1 << 10..(1 << 16) + (1 << 10)).contains(&light), "interpolated light {light}");
+    // Clamped to 6 bits: one instruction (usat, shift included) on Cortex-M. Wrapping: light
+    // far below 0 gives 0 either way.
+    let level = (light.wrapping_add(1 << 10) >> 11).clamp(0, 63) as u32;
     let t = u32::from(texel);
     let spread = (t | t << 16) & SPREAD565;
-    let lit = (spread * level + SPREAD565_HALF) >> 5 & SPREAD565;
+    let lit = spread.wrapping_mul(level).wrapping_add(SPREAD565_HALF) >> 5 & SPREAD565;
     (lit | lit >> 16) as u16
 }
 
@@ -270,8 +277,9 @@ mod tests {
         Texture { width: w, height: h, format: TextureFormat::Rgba8888, texels }
     }
 
-    /// Every channel value under every light: white light's modulation is at most one step
-    /// from the general RGB565 one, and equal at full light and at none.
+    /// Every channel value under every light interpolation gives (-1/64 .. 1 + 1/64): white
+    /// light's modulation is at most one step from the general RGB565 one, and equal at full
+    /// light and above, and at none and below.
     #[test]
     fn modulate565_white_is_within_one_step_of_modulate565() {
         let mut differ = 0u32;
@@ -280,7 +288,7 @@ mod tests {
             for c in 0..1u32 << bits {
                 // The other fields full, so a carry out of this field would show.
                 let texel = ((c << shift) | (0xffff & !mask)) as u16;
-                for l in [-1 << 24, -1 << 16, -1].into_iter().chain(0..=0x10000).chain([0x10001, 1 << 24]) {
+                for l in (-1024..=-1).chain(0..=0x10000).chain([0x10001, 0x10000 + 1023]) {
                     let (got, want) = (modulate565_white(texel, l), modulate565(texel, [l; 3]));
                     for (s, b) in [(11, 5), (5, 6), (0, 5)] {
                         let field = |x: u16| (u32::from(x) >> s) & ((1 << b) - 1);
