@@ -154,6 +154,9 @@ fn last_centre(p: i32) -> i32 {
 /// A triangle ready to rasterize: edges, depth plane and varyings relative to the origin pixel.
 pub struct Setup<const V: usize> {
     edges: [Edge; 3],
+    /// The middle vertex's height (by y) below the origin row's centres, 28.4 (see
+    /// `walk::RowWalk`).
+    to_mid: i32,
     /// Bounding box in pixels (inclusive), already clipped to the frame.
     x0: i32,
     x1: i32,
@@ -343,6 +346,8 @@ impl<const V: usize> Setup<V> {
         let d2 = core::array::from_fn(|k| c.v[k].wrapping_sub(a.v[k]));
         Ok(Setup {
             edges,
+            // The median of the three.
+            to_mid: a.y + b.y + c.y - min_y - max_y - oy,
             x0,
             x1,
             y0,
@@ -520,7 +525,7 @@ impl<const V: usize> Setup<V> {
     /// The edge walks of the window's rows, from its first (see [`Setup::covered_rows`]).
     #[inline(always)]
     fn row_walk(&self) -> RowWalk {
-        RowWalk::new(&self.edges, self.y0 - self.origin_row)
+        RowWalk::new(&self.edges, self.to_mid, self.y0 - self.origin_row)
     }
 
     /// Depth (24.40) at column `x` of the row `dy` below the origin. Wrapping: exact whenever

@@ -219,7 +219,9 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> S
         z: [f32; 3],
         tolerance: &[u32; V],
     ) -> bool {
-        let Some(mut rows) = setup.pixel_rows(z, tolerance, self.base.v_shift()) else {
+        // Walked where the set-up put them (moving them out of the `Option` is a copy).
+        let mut pixel_rows = setup.pixel_rows(z, tolerance, self.base.v_shift());
+        let Some(rows) = &mut pixel_rows else {
             return false;
         };
         let dz = rows.dz();
