@@ -57,26 +57,31 @@ impl RowWalk {
     pub(super) fn new(edges: &[Edge; 3], to_mid: i32, dy: i32) -> Self {
         // The long edge spans the whole height: the largest `|a|` (a tie means a flat short
         // edge, and either of the tied ones serves as long with the other as short). Then the
-        // next edge round the triangle and the one after.
-        let [e0, e1, e2] = edges;
+        // next edge round the triangle and the one after. Indices: cheaper to pick than edges.
         let [h0, h1, h2] = edges.each_ref().map(|e| e.a.unsigned_abs());
-        let (long, next, after) = if h0 >= h1 && h0 >= h2 {
-            (e0, e1, e2)
+        let long = if h0 >= h1 && h0 >= h2 {
+            0
         } else if h1 >= h2 {
-            (e1, e2, e0)
+            1
         } else {
-            (e2, e0, e1)
+            2
+        };
+        let (next, after) = match long {
+            0 => (1, 2),
+            1 => (2, 0),
+            _ => (0, 1),
         };
         // Going round the triangle, a left long edge runs up from the bottom vertex, so the
         // next edge runs from the top to the middle vertex (upper) and the one after from
         // there to the bottom (lower); a right one runs down, and the order is the reverse.
-        let long_left = long.a > 0;
+        let long_left = edges[long].a > 0;
         let (upper, lower) = if long_left { (next, after) } else { (after, next) };
         // Centres at `oy + 16·dy`: the first row at or below the middle vertex.
         let to_mid_row = ((to_mid + 15) >> 4) - dy;
         // Rows below the middle vertex are bounded by the lower edge from the first on.
         let short = if to_mid_row < 0 { lower } else { upper };
         let (left, right) = if long_left { (long, short) } else { (short, long) };
+        let (left, right, lower) = (&edges[left], &edges[right], &edges[lower]);
         RowWalk {
             left: EdgeRow::new(left, dy),
             right: EdgeRow::new(right, dy),
