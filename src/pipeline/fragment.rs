@@ -286,8 +286,9 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
     let walk = B::WALK_ROWS && !DITHER;
     setup.allow_affine(tolerance);
     let pixel = fpu && walk && !setup.is_affine();
-    if !(pixel && shader.draw_pixel_rows(&setup, tri.each_ref().map(|v| v.z), &tolerance)) {
-        match if walk { setup.walked_rows(subspan) } else { None } {
+    let z = tri.each_ref().map(|v| v.z);
+    if !(pixel && shader.draw_pixel_rows(&setup, z, &tolerance)) {
+        match if walk { setup.walked_rows(subspan, z) } else { None } {
             Some(rows) => shader.draw_rows(rows),
             None => setup.for_each_span(subspan, &mut shader),
         }

@@ -34,12 +34,6 @@ use crate::math::{times_power_of_two, F32};
 use crate::pipeline::span::RunVaryings;
 use crate::pipeline::varyings::VertexLit;
 
-/// The bits of `2^-10` and of `1 - 2^-10` (positive floats order as their bits do).
-const F32_DEPTH_MIN: u32 = 0x3a80_0000;
-const F32_DEPTH_MAX: u32 = 0x3f7f_c000;
-const _: () =
-    assert!(f32::from_bits(F32_DEPTH_MIN) == 1.0 / 1024.0 && f32::from_bits(F32_DEPTH_MAX) == 1.0 - 1.0 / 1024.0);
-
 /// An affine function of the pixel: its value at the box's origin pixel and its steps per
 /// column and per row.
 #[derive(Clone, Copy)]
@@ -139,8 +133,7 @@ impl<const V: usize> Setup<V> {
         if !(fits && within && origins < (1 << 24) - 1 && v << v_shift.min(32) < 1 << 31) {
             return None;
         }
-        let inside = |z: f32| (F32_DEPTH_MIN..=F32_DEPTH_MAX).contains(&z.to_bits());
-        let cursor = self.row_cursor_inside(z.iter().all(|&z| inside(z)))?;
+        let cursor = self.row_cursor_inside(z)?;
         Some(PixelRows { setup: self, cursor, planes: self.pixel_planes(v_shift) })
     }
 

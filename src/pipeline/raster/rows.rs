@@ -11,19 +11,29 @@ use super::{RowWalk, Setup, SpanSink};
 use crate::fixed::{depth40_to_30, Depth30, FDot16};
 use crate::math::mul_wide;
 
+/// The bits of `2^-10` and of `1 - 2^-10` (see [`Setup::row_cursor_inside`]).
+const F32_DEPTH_MIN: u32 = 0x3a80_0000;
+const F32_DEPTH_MAX: u32 = 0x3f7f_c000;
+const _: () =
+    assert!(f32::from_bits(F32_DEPTH_MIN) == 1.0 / 1024.0 && f32::from_bits(F32_DEPTH_MAX) == 1.0 - 1.0 / 1024.0);
+
 impl<const V: usize> Setup<V> {
     /// The rows of this triangle for a span loop that walks them itself ([`WalkedRows`]):
     /// affine triangles, and exact ones with `subspan <= 1` (0 counts as 1) and a tolerance
     /// (each row a run when linear steps between its exact ends are within it, else handed back
     /// to [`Setup::exact_row`]), when every run's stepped depth provably stays within 0..=2^30
-    /// (see [`Setup::safe_depth_step`]); `None` otherwise (then [`Setup::for_each_span`]).
+    /// (see [`Setup::row_cursor_inside`] for vertex depths `z`, else
+    /// [`Setup::safe_depth_step`]); `None` otherwise (then [`Setup::for_each_span`]).
     #[inline(always)]
-    pub(crate) fn walked_rows(&self, subspan: u32) -> Option<WalkedRows<'_, V>> {
+    pub(crate) fn walked_rows(&self, subspan: u32, z: [f32; 3]) -> Option<WalkedRows<'_, V>> {
         let adaptive = subspan <= 1 && self.tolerance.iter().any(|&t| t > 0);
         if self.affine.is_none() && !adaptive {
             return None;
         }
-        let cursor = self.row_cursor()?;
+        let cursor = match self.row_cursor_inside(z) {
+            Some(cursor) => cursor,
+            None => self.row_cursor()?,
+        };
         Some(WalkedRows { setup: self, dz: cursor.dz, cursor })
     }
 
@@ -37,13 +47,16 @@ impl<const V: usize> Setup<V> {
         Some(RowCursor { walk: self.row_walk(), y: self.y0, z_dx, z_dy, dz })
     }
 
-    /// The walk of this triangle's rows when its vertices' depths all lie within
-    /// `2^-10 ..= 1 - 2^-10` (`z_inside`): then every covered pixel's depth does too, and a
-    /// run's stepped depth is off it by far less than that margin (the plane's f32 set-up by
-    /// about 2^-21, each step by under 2^-30), so no check over the box is needed.
+    /// The walk of this triangle's rows when its vertices' depths `z` all lie within
+    /// `2^-10 ..= 1 - 2^-10`: then every covered pixel's depth does too, and a run's stepped
+    /// depth is off it by far less than that margin (the plane's f32 set-up by about 2^-21,
+    /// each step by under 2^-30), so no check over the box is needed (nor
+    /// [`Setup::safe_depth_step`]'s four products).
     #[inline(always)]
-    pub(super) fn row_cursor_inside(&self, z_inside: bool) -> Option<RowCursor> {
-        let (z_dx, z_dy) = self.depth_gradients().filter(|_| z_inside)?;
+    pub(super) fn row_cursor_inside(&self, z: [f32; 3]) -> Option<RowCursor> {
+        // Positive floats order as their bits do.
+        let inside = |z: f32| (F32_DEPTH_MIN..=F32_DEPTH_MAX).contains(&z.to_bits());
+        let (z_dx, z_dy) = self.depth_gradients().filter(|_| z.iter().all(|&z| inside(z)))?;
         Some(RowCursor { walk: self.row_walk(), y: self.y0, z_dx, z_dy, dz: z_dx >> 10 })
     }
 
@@ -220,8 +233,8 @@ mod tests {
     }
 
     /// The runs of walked rows, cut rows included, as the span loop sees them.
-    fn walked(setup: &Setup<3>, subspan: u32) -> Option<Vec<Span<3>>> {
-        let mut rows = setup.walked_rows(subspan)?;
+    fn walked(setup: &Setup<3>, subspan: u32, z: [f32; 3]) -> Option<Vec<Span<3>>> {
+        let mut rows = setup.walked_rows(subspan, z)?;
         let (dz, mut out) = (rows.dz, Collect(Vec::new()));
         while let Some(row) = rows.next_row() {
             match row {
@@ -251,13 +264,17 @@ mod tests {
                 inv_w: 0.5 + next(depth) as f32 / 1000.0,
                 varyings: core::array::from_fn(|_| next(range) as i32 - (range / 2) as i32),
             };
-            let tri = [vertex(&mut next), vertex(&mut next), vertex(&mut next)];
+            let mut tri = [vertex(&mut next), vertex(&mut next), vertex(&mut next)];
+            // Some vertices nearer than 2^-10: such triangles check their depth over the box.
+            if next(4) == 0 {
+                tri[0].z = 1.0 / 4096.0;
+            }
             let (row_start, rows) = (next(size) as i32, 1 + next(32) as i32);
             let window = Window { width: size as i32, row_start, row_end: row_start + rows };
             let Ok(mut setup) = Setup::<3>::new(&tri, &window, false, false) else { continue };
             setup.allow_affine([[0, 1 << 8, 1 << 12, 1 << 16][next(4) as usize]; 3]);
             let subspan = next(3);
-            let Some(walked) = walked(&setup, subspan) else { continue };
+            let Some(walked) = walked(&setup, subspan, tri.each_ref().map(|v| v.z)) else { continue };
             let mut old = Collect(Vec::new());
             setup.for_each_span(subspan, &mut old);
             assert_eq!(walked, old.0, "{tri:?} in {window:?}, subspan {subspan}");
