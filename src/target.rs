@@ -51,6 +51,14 @@ pub trait FrameColor: Copy {
     fn from_white_lit_rgb565(texel: u16, light: i32) -> Self {
         Self::from_lit_rgb565(texel, [light; 3])
     }
+    /// [`FrameColor::from_white_lit_rgb565`] given the constants RGB565 formats use for it
+    /// (see `texture::modulate565_white_with`); others ignore them.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn from_white_lit_rgb565_with(texel: u16, light: i32, constants: [u32; 2]) -> Self {
+        let _ = constants;
+        Self::from_white_lit_rgb565(texel, light)
+    }
 }
 
 /// The 4x4 Bayer matrix: thresholds 0..16.
@@ -136,6 +144,12 @@ impl FrameColor for Rgb565 {
             texel, light,
         )))
     }
+    #[inline(always)]
+    fn from_white_lit_rgb565_with(texel: u16, light: i32, constants: [u32; 2]) -> Self {
+        Rgb565::from(embedded_graphics_core::pixelcolor::raw::RawU16::new(crate::texture::modulate565_white_with(
+            texel, light, constants,
+        )))
+    }
 }
 
 impl FrameColor for Gray8 {
@@ -195,6 +209,10 @@ impl FrameColor for Rgb565Be {
     #[inline(always)]
     fn from_white_lit_rgb565(texel: u16, light: i32) -> Self {
         Rgb565Be(crate::texture::modulate565_white(texel, light).to_be_bytes())
+    }
+    #[inline(always)]
+    fn from_white_lit_rgb565_with(texel: u16, light: i32, constants: [u32; 2]) -> Self {
+        Rgb565Be(crate::texture::modulate565_white_with(texel, light, constants).to_be_bytes())
     }
     #[inline]
     fn to_rgb888(self) -> [u8; 3] {

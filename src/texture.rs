@@ -228,9 +228,9 @@ pub fn modulate565(texel: u16, light: [i32; 3]) -> u16 {
 
 /// The RGB565 fields of [`modulate565_white`] spread apart (green on top, then red, then blue)
 /// with a gap above each wide enough for the field times 32.
-const SPREAD565: u32 = 0x07E0_F81F;
+pub(crate) const SPREAD565: u32 = 0x07E0_F81F;
 /// Half of 32 in each spread field: rounds the products to nearest.
-const SPREAD565_HALF: u32 = 16 << 21 | 16 << 11 | 16;
+pub(crate) const SPREAD565_HALF: u32 = 16 << 21 | 16 << 11 | 16;
 
 /// `texel · light` for white light (16.16, the same on all channels) interpolated from vertex
 /// lights in 0..=1, the way the fastest MCU renderers do it: the light rounded to 1/32
@@ -247,13 +247,22 @@ const SPREAD565_HALF: u32 = 16 << 21 | 16 << 11 | 16;
 #[inline(always)]
 #[must_use]
 pub(crate) fn modulate565_white(texel: u16, light: i32) -> u16 {
+    modulate565_white_with(texel, light, [SPREAD565, SPREAD565_HALF])
+}
+
+/// [`modulate565_white`] given its two constants, `[SPREAD565, SPREAD565_HALF]`: a loop that
+/// loads them (one instruction for both) need not build each from two halves per pixel.
+#[inline(always)]
+#[must_use]
+pub(crate) fn modulate565_white_with(texel: u16, light: i32, [spread565, half]: [u32; 2]) -> u16 {
+    debug_assert!([spread565, half] == [SPREAD565, SPREAD565_HALF]);
     debug_assert!((-1 << 10..(1 << 16) + (1 << 10)).contains(&light), "interpolated light {light}");
     // Clamped to 6 bits: one instruction (usat, shift included) on Cortex-M. Wrapping: light
     // far below 0 gives 0 either way.
     let level = (light.wrapping_add(1 << 10) >> 11).clamp(0, 63) as u32;
     let t = u32::from(texel);
-    let spread = (t | t << 16) & SPREAD565;
-    let lit = spread.wrapping_mul(level).wrapping_add(SPREAD565_HALF) >> 5 & SPREAD565;
+    let spread = (t | t << 16) & spread565;
+    let lit = spread.wrapping_mul(level).wrapping_add(half) >> 5 & spread565;
     (lit | lit >> 16) as u16
 }
 

@@ -15,7 +15,7 @@ use crate::fixed::FDot16;
 
 use crate::light::PixelLights;
 use crate::target::{Band, DepthBuffer, FrameColor};
-use crate::texture::modulate;
+use crate::texture::{modulate, SPREAD565, SPREAD565_HALF};
 
 /// Where a fragment's light comes from.
 pub(super) trait Lighting {
@@ -46,7 +46,7 @@ impl Lighting for Interpolated {
 }
 
 /// [`Interpolated`] for white light: one varying for all three channels.
-struct White;
+struct White([u32; 2]);
 
 impl Lighting for White {
     #[inline(always)]
@@ -55,7 +55,7 @@ impl Lighting for White {
     }
     #[inline(always)]
     fn lit_rgb565<C: FrameColor, const V: usize>(&self, texel: u16, v: &[FDot16; V]) -> C {
-        C::from_white_lit_rgb565(texel, v[VertexLit::LIGHT])
+        C::from_white_lit_rgb565_with(texel, v[VertexLit::LIGHT], self.0)
     }
 }
 
@@ -202,7 +202,12 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
         }};
     }
     match lit {
-        LitBy::White => with_dither!(VertexLit::WHITE_LEN, &White),
+        LitBy::White => {
+            // Opaque: the span loop loads the two (one `ldrd`) instead of building each from
+            // two halves at every pixel, as it would with them in sight.
+            let white = White(core::hint::black_box([SPREAD565, SPREAD565_HALF]));
+            with_dither!(VertexLit::WHITE_LEN, &white)
+        }
         LitBy::Vertex => with_dither!(VertexLit::COLOR_LEN, &Interpolated),
         LitBy::VertexAndSpecular => with_dither!(VertexLit::SPECULAR_LEN, &Specular(specular)),
         LitBy::Pixel => with_dither!(PixelLit::LEN, pl),
