@@ -101,7 +101,7 @@ impl Corners<'_> {
             Corners::Screen(tri) => tri.each_ref().map(Corner::of),
             Corners::Cached(p, flat) => core::array::from_fn(|k| {
                 let p = p[k];
-                let light = flat.map_or_else(|| p.light(), |l| l[k]);
+                let light = p.corner_light(flat, k);
                 let (x, y) = (i32::from(p.xy[0]), i32::from(p.xy[1]));
                 Corner::new((x, y), p.z, p.inv_w, &vertex_lit_varyings(p.texel, light))
             }),
@@ -115,7 +115,7 @@ impl Corners<'_> {
         match self {
             Corners::Screen(tri) => tri.iter().all(|v| white(VertexLit::light(&v.varyings))),
             Corners::Cached(p, flat) => (0..3).all(|k| {
-                let [r, g, b, _] = flat.map_or_else(|| p[k].light(), |l| l[k]);
+                let [r, g, b, _] = p[k].corner_light(flat, k);
                 white([r, g, b].map(i32::from))
             }),
         }

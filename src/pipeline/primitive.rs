@@ -237,8 +237,7 @@ fn cached_screen<const L: usize>(
     };
     let flat = (ctx.opts.shading == Shading::Flat).then(|| flat_corner_lights(ctx, s, idx));
     // Not `p.map(..)`: an out-of-line call here.
-    let light = |k: usize| flat.map_or_else(|| p[k].light(), |l| l[k]);
-    Other::Inside(core::array::from_fn(|k| p[k].screen_vertex(light(k))), known)
+    Other::Inside(core::array::from_fn(|k| p[k].screen_vertex(p[k].corner_light(flat.as_ref(), k))), known)
 }
 
 /// Whether every corner's `1/w` is positive and finite: the triangle is wholly in front of the

@@ -286,4 +286,11 @@ impl TransformedVertex {
         let [r, g, b] = self.light;
         [r, g, b, self.specular as u16 * 257]
     }
+
+    /// The light of the triangle corner `k` that this vertex is: flat shading's for that
+    /// corner when given, else the vertex's own.
+    #[inline(always)]
+    pub(crate) fn corner_light(&self, flat: Option<&[VertexLight; 3]>, k: usize) -> VertexLight {
+        flat.map_or_else(|| self.light(), |l| l[k])
+    }
 }
