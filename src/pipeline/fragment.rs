@@ -135,11 +135,11 @@ pub(crate) fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     let (material, sampler) = (surface.material, surface.sampler);
     let winding = Winding { cull_back: material.cull_back_faces, flip: surface.flip, area };
     let r = match (sampler, surface.fast) {
-        (_, Some(fast)) => fill_with(band, ctx, (winding, surface.white), tri, &fast, stats),
-        (Some(t), None) => fill_with(band, ctx, (winding, surface.white), tri, t, stats),
+        (_, Some(fast)) => fill_with(band, ctx, (winding, surface.lit), tri, &fast, stats),
+        (Some(t), None) => fill_with(band, ctx, (winding, surface.lit), tri, t, stats),
         (None, _) => {
             let diffuse = Diffuse([material.rgba[0], material.rgba[1], material.rgba[2]]);
-            fill_with(band, ctx, (winding, surface.white), tri, &diffuse, stats)
+            fill_with(band, ctx, (winding, surface.lit), tri, &diffuse, stats)
         }
     };
     match r {
@@ -158,32 +158,19 @@ struct Winding {
     area: Option<i32>,
 }
 
-/// [`fill`] for one base colour source: picks the lighting and dithering variant. `white`: the
-/// surface's corners are all lit white (see `Surface::white`).
+/// [`fill`] for one base colour source: picks the lighting and dithering variant. `lit`: the
+/// lighting when the surface decides it (see [`LitBy::of_surface`]).
 fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    (winding, white): (Winding, bool),
+    (winding, lit): (Winding, Option<LitBy>),
     tri: Corners<'_>,
     base: &B,
     stats: &mut Stats,
 ) -> Result<(), Reject> {
-    let specular = ctx.specular;
-    let pl = &ctx.pixel_lights;
-    // Asked only of the vertex-lit variants (Phong's varyings hold normals).
-    let white = || {
-        debug_assert!(!white || tri.white(), "a white surface's corner is not white");
-        white || tri.white()
-    };
-    let lit = if ctx.opts.shading == Shading::Phong {
-        LitBy::Pixel
-    } else if specular != [0; 3] {
-        LitBy::VertexAndSpecular
-    } else if white() {
-        LitBy::White
-    } else {
-        LitBy::Vertex
-    };
+    debug_assert!(lit != Some(LitBy::White) || tri.white(), "a white surface's corner is not white");
+    let lit = lit.unwrap_or_else(|| if tri.white() { LitBy::White } else { LitBy::Vertex });
+    let (specular, pl) = (ctx.specular, &ctx.pixel_lights);
     let raster = (&ctx.window, ctx.opts.subspan, lit.affine_tolerance_light(), !ctx.opts.fixed_vertices);
     // One monomorphised loop per lighting (with its number of varyings) and dithering.
     macro_rules! with_dither {
@@ -215,8 +202,8 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
 }
 
 /// Which [`Lighting`] a triangle uses (and so how many varyings it interpolates).
-#[derive(Clone, Copy)]
-enum LitBy {
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum LitBy {
     /// White light per vertex: U, V, light.
     White,
     /// Light per vertex: U, V, light red, green, blue.
@@ -228,6 +215,20 @@ enum LitBy {
 }
 
 impl LitBy {
+    /// The lighting of every triangle of a surface, when the surface decides it: Phong,
+    /// specular, or (with `white`: grey lights and no vertex colours, see
+    /// `Context::grey_light`) white vertex light; `None` when each triangle's corners decide
+    /// (white or coloured vertex light).
+    pub(crate) fn of_surface<const L: usize>(ctx: &Context<'_, L>, white: bool) -> Option<LitBy> {
+        if ctx.opts.shading == Shading::Phong {
+            Some(LitBy::Pixel)
+        } else if ctx.specular != [0; 3] {
+            Some(LitBy::VertexAndSpecular)
+        } else {
+            white.then_some(LitBy::White)
+        }
+    }
+
     /// How far affine varyings other than texture coordinates may be from perspective-correct
     /// ones (see `Setup::allow_affine`): 1/256 for light (an 8-bit step; a quarter of RGB565's
     /// finest); 1/4096 for Phong's normals and positions, as per-pixel lighting magnifies

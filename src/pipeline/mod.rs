@@ -498,10 +498,11 @@ fn draw_touching(
     draw: &mut impl FnMut((u32, Option<Learnt>), &mut Stats) -> TriangleRows,
 ) -> u32 {
     let mut touched = 0;
-    for (t, r) in (first..).zip(seen.iter_mut()) {
+    // The index only where a triangle is drawn (from the position: no counter a triangle).
+    for (i, r) in seen.iter_mut().enumerate() {
         if r.may_touch(start, end) {
             let learnt = (*r != TriangleRows::UNKNOWN).then_some(Learnt(*r));
-            *r = draw((t, learnt), stats);
+            *r = draw((first.wrapping_add(i as u32), learnt), stats);
             touched += 1;
         }
     }

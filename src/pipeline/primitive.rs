@@ -6,7 +6,7 @@
 use super::clip::{
     classify, cut, finite_varyings, ClipResult, ClipVertex, Polygon, MAX_CLIPPED, NEEDS_CLIP, NOT_FINITE,
 };
-use super::fragment::{fill, Corners};
+use super::fragment::{fill, Corners, LitBy};
 use super::line::{line, plot};
 use super::raster::{area_in_guard_band, facing, facing_in_guard_band, in_guard_band, Reject, ScreenVertex};
 use super::scratch::{TransformedVertex, TriangleRows};
@@ -31,9 +31,9 @@ pub(crate) struct Surface<'a, 'm> {
     pub(crate) fast: Option<Repeat565<'m>>,
     /// The draw's transform mirrors (negative determinant): front faces wind the other way.
     pub(crate) flip: bool,
-    /// Every corner's light is white (the same on all three channels): grey lights and no
-    /// vertex colours (see [`Context::grey_light`]). Else each triangle's corners tell.
-    pub(crate) white: bool,
+    /// The lighting of all its triangles when the surface decides it (see
+    /// [`LitBy::of_surface`]); else each triangle's corners tell.
+    pub(crate) lit: Option<LitBy>,
 }
 
 impl<'a, 'm> Surface<'a, 'm> {
@@ -45,7 +45,8 @@ impl<'a, 'm> Surface<'a, 'm> {
         s: &DrawSetup<'_>,
     ) -> Self {
         let white = ctx.grey_light && !s.arrays.has_colors();
-        Surface { material, sampler, fast: sampler.and_then(Repeat565::new), flip: s.flip, white }
+        let lit = LitBy::of_surface(ctx, white);
+        Surface { material, sampler, fast: sampler.and_then(Repeat565::new), flip: s.flip, lit }
     }
 }
 
