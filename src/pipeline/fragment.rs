@@ -45,7 +45,8 @@ impl Lighting for Interpolated {
     }
 }
 
-/// [`Interpolated`] for white light: one varying for all three channels.
+/// [`Interpolated`] for white light: one varying for all three channels. Holds the RGB565
+/// modulation's two constants (`texture::modulate565_white_with`), made opaque by `fill_with`.
 struct White([u32; 2]);
 
 impl Lighting for White {
