@@ -56,7 +56,10 @@ impl Lighting for White {
     }
     #[inline(always)]
     fn lit_rgb565<C: FrameColor, const V: usize>(&self, texel: u16, v: &[FDot16; V]) -> C {
-        C::from_white_lit_rgb565_with(texel, v[VertexLit::LIGHT], self.0)
+        let light = v[VertexLit::LIGHT];
+        // Interpolated from vertex lights in 0..=1 (see `texture::modulate565_white`).
+        debug_assert!((-1 << 10..(1 << 16) + (1 << 10)).contains(&light), "interpolated light {light}");
+        C::from_white_lit_rgb565_with(texel, light, self.0)
     }
 }
 
