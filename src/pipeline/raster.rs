@@ -185,9 +185,9 @@ pub struct Setup<const V: usize> {
     v0: [FDot16; V],
     d1: [i32; V],
     d2: [i32; V],
-    /// Twice the triangle's area in 1/256 pixel², positive (exact: below 2^31, see
-    /// `facing_in_guard_band`, rounded to f32 as every use needs it).
-    area: F32,
+    /// Twice the triangle's area in 1/256 pixel², positive (below 2^31, see
+    /// `facing_in_guard_band`).
+    area: u32,
     /// Affine varyings when allowed (see [`Setup::allow_affine`]).
     affine: Option<AffinePlanes<V>>,
     /// Four times the tolerance of each varying, saturated (0: no shortcut where `1/w` varies).
@@ -365,7 +365,7 @@ impl<const V: usize> Setup<V> {
             v0,
             d1,
             d2,
-            area: af,
+            area: area.unsigned_abs(),
             affine: None,
             tolerance: [0; V],
         })
@@ -468,8 +468,12 @@ impl<const V: usize> Setup<V> {
         let extent = (self.x1 - self.x0, self.rows_below);
         self.affine = within
             .then(|| {
-                let (d1, d2) = (self.d1.map(F32::from), self.d2.map(F32::from));
-                AffinePlanes::new(&self.edges, self.area, (&self.v0, &d1, &d2), extent)
+                if self.fpu {
+                    let (d1, d2) = (self.d1.map(F32::from), self.d2.map(F32::from));
+                    AffinePlanes::new(&self.edges, F32::from(self.area), (&self.v0, &d1, &d2), extent)
+                } else {
+                    AffinePlanes::in_integers(&self.edges, self.area, (&self.v0, &self.d1, &self.d2), extent)
+                }
             })
             .flatten();
         self.tolerance = tolerance.map(|t| t.saturating_mul(4));

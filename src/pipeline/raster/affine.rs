@@ -2,15 +2,16 @@
 //! [`AffinePlanes`]), for triangles whose varyings `Setup::allow_affine` finds affine within
 //! tolerance. It does not decide that (`raster` does) or step pixels (`span` does).
 
+use super::perspective::{mul_i32, mul_u32, reciprocal};
 use super::Edge;
 use crate::fixed::{fdot8_floor, fdot8_round, FDot16, FDot8};
-use crate::math::{times_power_of_two, F32};
+use crate::math::{mul_wide, times_power_of_two, F32};
 
 /// Affine varyings: `v(x, y) = base + (origin + gx·x + gy·y) / 256` in pixels from the origin
 /// pixel centre, in integers (24.8 varying units: rounding adds under 2^-8 units per pixel of
-/// distance, far below the 2^-16 of a texel or of full light that a unit is). Integer
-/// arithmetic costs the same on every target, FPU or not, and gives the same value for a pixel
-/// whichever band draws it.
+/// distance, far below the 2^-16 of a texel or of full light that a unit is). Stepping them
+/// costs the same on every target, FPU or not, and gives the same value for a pixel whichever
+/// band draws it.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct AffinePlanes<const V: usize> {
     /// Vertex 0's values; the planes below are relative to them.
@@ -24,44 +25,83 @@ pub(super) struct AffinePlanes<const V: usize> {
 
 impl<const V: usize> AffinePlanes<V> {
     /// The planes through the three vertices' values: the weight of vertex 1 is `E_1 / area`
-    /// and of vertex 2 is `E_2 / area` (screen-space barycentrics), computed in f32 (the same
-    /// bits on every target). `None` when `origin + gx·x + gy·y` could leave i32 somewhere in
-    /// `0..=width` by `0..=height` pixels from the origin (needle triangles with huge
-    /// gradients): those keep per-run exact values.
+    /// and of vertex 2 is `E_2 / area` (screen-space barycentrics; `area`: twice the
+    /// triangle's, in 1/256 pixel², positive, rounded to f32), so each plane term is `(d_1 ·
+    /// coefficient_1 + d_2 · coefficient_2) / area`, computed in f32 (an FPU's few
+    /// instructions; the same bits on every target). `None` when `origin + gx·x + gy·y` could
+    /// leave i32 somewhere in `0..=width` by `0..=height` pixels from the origin (needle
+    /// triangles with huge gradients): those keep per-run exact values. See
+    /// [`AffinePlanes::in_integers`] for the planes without float.
     pub(super) fn new(
         edges: &[Edge; 3],
         area: F32,
         (v0, d1, d2): (&[i32; V], &[F32; V], &[F32; V]),
-        (width, height): (i32, i32),
+        extent: (i32, i32),
     ) -> Option<Self> {
         let inv_area = F32(1.0) / area;
         let per_pixel = |c: i32| F32::from(c * 16) * inv_area;
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), F32::from(edges[1].c) * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), F32::from(edges[2].c) * inv_area);
-        // At least one pixel each way: the bound below must hold `gx` and `gy` themselves too
-        // (the per-pixel step is `gx`, rounded), also for a box one column or row wide.
-        let (w, h) = (u64::from(width.max(1) as u32), u64::from(height.max(1) as u32));
         let mut p = AffinePlanes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
         for k in 0..V {
             // Times 256 exactly (a power of two: no soft-float multiply without an FPU).
             let (d1, d2) = (times_power_of_two(d1[k].0, 256.0), times_power_of_two(d2[k].0, 256.0));
             let (d1, d2) = (F32(d1), F32(d2));
             // Relative to vertex 0's value, added back in integers: large values (e.g. world
-            // positions) keep their precision. Truncating (saturating): under one unit of 2^-8
-            // off. Finite: `d` is below 2^39 and the weights below 2^32.
+            // positions) keep their precision. Truncating (saturating: a saturated value fails
+            // the bound): under one unit of 2^-8 off. Finite: `d` is below 2^39 and the weights
+            // below 2^32.
             let (o, gx, gy) = (d1 * b1o + d2 * b2o, d1 * b1x + d2 * b2x, d1 * b1y + d2 * b2y);
-            let (o, gx, gy) = (o.to_i32(), gx.to_i32(), gy.to_i32());
-            // Within 2^30 in integers (a saturated value fails): `origin + gx·x + gy·y` fits i32
-            // for every pixel of the box, and `gx + 128` too. `x ^ (x >> 31)` is `|x|` or
-            // `|x| - 1` (one instruction): the sum is at most `1 + w + h` under the exact one,
-            // still far within i32.
-            let abs = |v: i32| u64::from((v ^ (v >> 31)) as u32);
-            if abs(o) + abs(gx) * w + abs(gy) * h >= 1 << 30 {
-                return None;
-            }
-            (p.origin[k], p.gx[k], p.gy[k], p.step[k]) = (o, gx, gy, fdot8_round(gx));
+            p.set(k, (o.to_i32(), gx.to_i32(), gy.to_i32()), extent)?;
         }
         Some(p)
+    }
+
+    /// [`AffinePlanes::new`] in integers, for draws without f32 perspective (no soft-float
+    /// where there is no FPU): each term's numerator `d_1 · coefficient_1 + d_2 ·
+    /// coefficient_2` exact in 64 bits, times the area's reciprocal ([`AreaReciprocal`]). Not
+    /// the same bits as `new`'s (a draw uses one or the other for all its triangles), and as
+    /// close to the exact planes. Out of line with an FPU, whose draws never call it.
+    #[cfg_attr(soft_float, inline(always))]
+    #[cfg_attr(not(soft_float), inline(never))]
+    pub(super) fn in_integers(
+        edges: &[Edge; 3],
+        area: u32,
+        (v0, d1, d2): (&[i32; V], &[i32; V], &[i32; V]),
+        extent: (i32, i32),
+    ) -> Option<Self> {
+        let inverse = AreaReciprocal::new(area);
+        let (e1, e2) = (&edges[1], &edges[2]);
+        let mut p = AffinePlanes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
+        for k in 0..V {
+            let (d1, d2) = (d1[k], d2[k]);
+            // `a` and `b` are per 1/16 pixel and the terms in 24.8 units: per pixel, times 2^12;
+            // `c` is the origin's value, times 2^8. Each sum is exact: the products are below
+            // 2^46 (`|a|, |b| < 2^15`) and 2^62 (`|c| < 2^31`).
+            let o = inverse.times(mul_i32(d1, e1.c) + mul_i32(d2, e2.c), 8)?;
+            let gx = inverse.times(mul_wide(d1, e1.a) + mul_wide(d2, e2.a), 12)?;
+            let gy = inverse.times(mul_wide(d1, e1.b) + mul_wide(d2, e2.b), 12)?;
+            p.set(k, (o, gx, gy), extent)?;
+        }
+        Some(p)
+    }
+
+    /// Sets varying `k`'s plane terms (24.8) when they are within reach over a box of `width`
+    /// by `height` pixels from the origin (see [`AffinePlanes::new`]).
+    #[inline(always)]
+    fn set(&mut self, k: usize, (o, gx, gy): (FDot8, FDot8, FDot8), (width, height): (i32, i32)) -> Option<()> {
+        // At least one pixel each way: the bound must hold `gx` and `gy` themselves too (the
+        // per-pixel step is `gx`, rounded), also for a box one column or row wide.
+        let (w, h) = (u64::from(width.max(1) as u32), u64::from(height.max(1) as u32));
+        // Within 2^30 in integers: `origin + gx·x + gy·y` fits i32 for every pixel of the box,
+        // and `gx + 128` too. `x ^ (x >> 31)` is `|x|` or `|x| - 1` (one instruction): the sum
+        // is at most `1 + w + h` under the exact one, still far within i32.
+        let abs = |v: i32| u64::from((v ^ (v >> 31)) as u32);
+        if abs(o) + abs(gx) * w + abs(gy) * h >= 1 << 30 {
+            return None;
+        }
+        (self.origin[k], self.gx[k], self.gy[k], self.step[k]) = (o, gx, gy, fdot8_round(gx));
+        Some(())
     }
 
     /// Varyings at column `x`, row `y` from the origin pixel, and the step per pixel.
@@ -69,5 +109,119 @@ impl<const V: usize> AffinePlanes<V> {
     pub(super) fn at(&self, x: i32, y: i32) -> ([i32; V], [i32; V]) {
         let v = |k: usize| self.base[k].wrapping_add(fdot8_floor(self.origin[k] + self.gx[k] * x + self.gy[k] * y));
         (core::array::from_fn(v), self.step)
+    }
+}
+
+/// `1 / area` for [`AffinePlanes::in_integers`]: `area = m / 2^s` with `m` in `2^31..2^32`,
+/// and `r ≈ 2^62 / m` (within about 2^-30 relative, see `perspective::reciprocal`), so that
+/// `p · 2^k / area ≈ p · r / 2^(62 - s - k)`.
+struct AreaReciprocal {
+    r: u32,
+    s: u32,
+}
+
+impl AreaReciprocal {
+    /// The reciprocal of `area` (twice a triangle's area: positive, below 2^31).
+    #[inline(always)]
+    fn new(area: u32) -> Self {
+        debug_assert!(area > 0 && area < 1 << 31);
+        let s = area.leading_zeros();
+        // Capping `2^31` itself costs 2^-31 relative.
+        AreaReciprocal { r: reciprocal(area << s).min((1 << 31) - 1), s }
+    }
+
+    /// `floor(p · 2^k / area)`, within 3 units (the reciprocal's 2^-29 of a value below 2^31,
+    /// and the floor), when its magnitude is below 2^30; `None` for `|p| >= 2^n` (`n = 62 - s -
+    /// k`), whose quotient is at least 2^30 (`r >= 2^30`). For `k <= 12`.
+    #[inline(always)]
+    fn times(&self, p: i64, k: u32) -> Option<i32> {
+        // `s <= 31`: `n >= 19`; `s >= 1`: `n <= 61 - k`.
+        let n = 62 - self.s - k;
+        if p.unsigned_abs() >= 1 << n {
+            return None;
+        }
+        // `p · r = ph · r · 2^32 + pl · r`, and `hi = floor(p · r / 2^32)`: `|ph| < 2^(n - 32)`,
+        // so each product is below 2^62.
+        let (ph, pl) = ((p >> 32) as i32, p as u32);
+        let low = mul_u32(pl, self.r);
+        let hi = mul_i32(ph, self.r as i32) + (low >> 32) as i64;
+        // `|p · r / 2^n| < 2^31`: the quotient fits i32, and so does `hi << (32 - n)` below.
+        let q = if n >= 32 { hi >> (n - 32) } else { (hi << (32 - n)) | i64::from(low as u32 >> n) };
+        Some(q as i32)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::perspective::tests::triangle;
+    use super::super::{Setup, Window};
+    use super::*;
+    use crate::test_rng::Lcg;
+
+    /// The integer plane terms against the exact quotients in f64, for random triangles (tiny
+    /// to guard-band sized, varyings spanning 2^12 to 2^32 units): within 3 units of 2^-8
+    /// wherever they are kept, refused only where the exact terms leave the bound (or come
+    /// within 4 units of it), and kept or refused alike with the f32 planes but for such
+    /// borderline triangles.
+    #[test]
+    fn integer_planes_are_within_three_units_of_the_exact_ones() {
+        let mut rng = Lcg(0x6a09_e667_f3bc_c908);
+        let window = Window { width: 1 << 11, row_start: 0, row_end: 1 << 11 };
+        let (mut kept, mut refused, mut worst) = (0, 0, 0f64);
+        for t in 0..20_000 {
+            let extent = [1, 3, 40, 400, 1900][rng.below(5) as usize];
+            let texels = [1 << 12, 1 << 16, 1 << 24, u32::MAX][rng.below(4) as usize];
+            let mut tri = triangle(&mut rng, extent, 1.0, texels);
+            // One base for the three texel coordinates u (`triangle` gives each its own).
+            let base = rng.next() as i32;
+            for v in &mut tri {
+                v.varyings[0] = base.wrapping_add((rng.next() % texels) as i32);
+            }
+            let Ok(s) = Setup::<3>::new(&tri, &window, false, false) else { continue };
+            let extent = (s.x1 - s.x0, s.rows_below);
+            let planes = AffinePlanes::in_integers(&s.edges, s.area, (&s.v0, &s.d1, &s.d2), extent);
+            let (d1, d2) = (s.d1.map(F32::from), s.d2.map(F32::from));
+            let float = AffinePlanes::new(&s.edges, F32::from(s.area), (&s.v0, &d1, &d2), extent);
+            // The exact terms, and whether they are within the bound with a margin of 4 units.
+            let area = f64::from(s.area);
+            let (e1, e2) = (&s.edges[1], &s.edges[2]);
+            let exact = |k: usize, c1: i32, c2: i32, scale: f64| {
+                (f64::from(s.d1[k]) * f64::from(c1) + f64::from(s.d2[k]) * f64::from(c2)) * scale / area
+            };
+            let terms = |k: usize| {
+                [exact(k, e1.c, e2.c, 256.0), exact(k, e1.a, e2.a, 4096.0), exact(k, e1.b, e2.b, 4096.0)]
+            };
+            let (w, h) = (f64::from(extent.0.max(1)), f64::from(extent.1.max(1)));
+            let reach = |[o, gx, gy]: [f64; 3], margin: f64| {
+                (o.abs() + margin) + (gx.abs() + margin) * w + (gy.abs() + margin) * h
+            };
+            let clearly_in = (0..3).all(|k| reach(terms(k), 4.0) < f64::from(1 << 30) - 8.0);
+            let clearly_out = (0..3).any(|k| reach(terms(k), -4.0) >= f64::from(1 << 30));
+            match planes {
+                Some(p) => {
+                    assert!(!clearly_out, "triangle {t}: kept beyond the bound");
+                    kept += 1;
+                    for k in 0..3 {
+                        let [o, gx, gy] = terms(k);
+                        for (got, want) in [(p.origin[k], o), (p.gx[k], gx), (p.gy[k], gy)] {
+                            let error = (f64::from(got) - want.floor()).abs();
+                            worst = worst.max(error);
+                            assert!(error <= 3.0, "triangle {t}, varying {k}: {got} for {want}");
+                        }
+                        assert_eq!(p.step[k], fdot8_round(p.gx[k]));
+                    }
+                }
+                None => {
+                    assert!(!clearly_in, "triangle {t}: refused within the bound");
+                    refused += 1;
+                }
+            }
+            if clearly_in || clearly_out {
+                assert_eq!(planes.is_some(), float.is_some(), "triangle {t}: f32 planes decide otherwise");
+            }
+        }
+        // Both outcomes, many times over.
+        assert!(kept > 5000 && refused > 500, "{kept} kept, {refused} refused");
+        std::println!("{kept} kept, {refused} refused; worst error {worst} units of 2^-8");
     }
 }

@@ -44,7 +44,7 @@ pub(super) fn mul_u32(a: u32, b: u32) -> u64 {
 
 /// `a · b` in full, signed (see [`mul_u32`]).
 #[inline(always)]
-fn mul_i32(a: i32, b: i32) -> i64 {
+pub(super) fn mul_i32(a: i32, b: i32) -> i64 {
     #[cfg(no_hw_divide)]
     {
         // At most 2^62 in magnitude.
@@ -65,7 +65,7 @@ fn mul_i32(a: i32, b: i32) -> i64 {
 /// good to 2^-8 from [`RECIPROCALS`], then two Newton steps `x (2 - d x)`, each squaring the
 /// error (and approaching from below: no overflow).
 #[inline(always)]
-fn reciprocal(d: u32) -> u32 {
+pub(super) fn reciprocal(d: u32) -> u32 {
     debug_assert!(d >= 1 << 31);
     let mut x = u32::from(RECIPROCALS[(d >> 24) as usize & 127]) << 15;
     for _ in 0..2 {
