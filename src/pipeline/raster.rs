@@ -313,17 +313,23 @@ impl<const V: usize> Setup<V> {
         let (ox, oy) = (x0 * 16 + 8, fy0 * 16 + 8);
         let edges = [Edge::new(b, c, ox, oy), Edge::new(c, a, ox, oy), Edge::new(a, b, ox, oy)];
 
-        // Depth plane from the three vertices (f32 setup, deterministic on every target; `F32`:
-        // no soft-float library calls without an FPU).
-        let (az, bz, cz) = (F32(a.z), F32(b.z), F32(c.z));
-        let (dz1, dz2) = (bz - az, cz - az);
-        let (ex1, ey1, ex2, ey2) =
-            (F32::from(b.x - a.x), F32::from(b.y - a.y), F32::from(c.x - a.x), F32::from(c.y - a.y));
-        let gx = (dz1 * ey2 - dz2 * ey1) / af; // per 1/16 pixel
-        let gy = (dz2 * ex1 - dz1 * ex2) / af;
-        let z_at_origin = az + gx * F32::from(ox - a.x) + gy * F32::from(oy - a.y);
-        // Powers of two: exact, and no soft-float multiply without an FPU.
-        let to_fixed = |v: F32| crate::math::f32_to_i64(times_power_of_two(v.0, DEPTH40_ONE));
+        // Depth plane from the three vertices: in f32 with f32 perspective (an FPU's few
+        // instructions; `F32`: deterministic on every target), else in integers (no
+        // soft-float without an FPU; see `affine::integer_depth_plane`).
+        let (z_origin, z_dx, z_dy) = if fpu {
+            let (az, bz, cz) = (F32(a.z), F32(b.z), F32(c.z));
+            let (dz1, dz2) = (bz - az, cz - az);
+            let (ex1, ey1, ex2, ey2) =
+                (F32::from(b.x - a.x), F32::from(b.y - a.y), F32::from(c.x - a.x), F32::from(c.y - a.y));
+            let gx = (dz1 * ey2 - dz2 * ey1) / af; // per 1/16 pixel
+            let gy = (dz2 * ex1 - dz1 * ex2) / af;
+            let z_at_origin = az + gx * F32::from(ox - a.x) + gy * F32::from(oy - a.y);
+            // Powers of two: exact, and no soft-float multiply without an FPU.
+            let to_fixed = |v: F32| crate::math::f32_to_i64(times_power_of_two(v.0, DEPTH40_ONE));
+            (to_fixed(z_at_origin), to_fixed(F32(times_16(gx.0))), to_fixed(F32(times_16(gy.0))))
+        } else {
+            affine::integer_depth_plane([a, b, c].map(|v| (v.x, v.y, v.z)), area.unsigned_abs(), (ox, oy))
+        };
 
         // Divided by the largest, positive and finite (`facing`): that one becomes exactly
         // `1 << Q_BITS`, the others at most that (and at least `Q_MIN`).
@@ -354,9 +360,9 @@ impl<const V: usize> Setup<V> {
             y1,
             origin_row: fy0,
             rows_below: last_centre(max_y) - fy0,
-            z_origin: to_fixed(z_at_origin),
-            z_dx: to_fixed(F32(times_16(gx.0))),
-            z_dy: to_fixed(F32(times_16(gy.0))),
+            z_origin,
+            z_dx,
+            z_dy,
             q,
             q_min,
             e_shift: perspective::edge_shift(area.unsigned_abs()),
