@@ -125,6 +125,14 @@ impl Edge {
     }
 }
 
+/// The `1/w`s `inv_w` of a triangle's vertices (positive and finite) divided by the largest, in
+/// f32: that one exactly 1.
+#[inline(always)]
+fn normalised_inv_w(inv_w: [f32; 3]) -> [F32; 3] {
+    let max_w = F32(max(max(inv_w[0], inv_w[1]), inv_w[2]));
+    inv_w.map(|q| F32(q) / max_w)
+}
+
 /// `floor(n / d)` for `d > 0`.
 #[cfg(any(no_hw_divide, test))]
 #[inline(always)]
@@ -282,7 +290,13 @@ impl<const V: usize> Setup<V> {
     /// # Errors
     /// The [`Reject`] that says why nothing is drawn.
     pub fn new(tri: &[ScreenVertex; 3], win: &Window, cull_back: bool, flip: bool) -> Result<Self, Reject> {
-        Self::with_area(&tri.each_ref().map(Corner::of), win, facing(tri, cull_back, flip)?, false)
+        let (corners, area) = (tri.each_ref().map(Corner::of), facing(tri, cull_back, flip)?);
+        let mut setup = Self::with_area(&corners, win, area, false)?;
+        // For `use_fpu_perspective`, which only a set-up made here may be switched to: the
+        // vertices in `with_area`'s order.
+        let [a, b, c] = corners.map(|c| c.inv_w);
+        setup.inv_w = normalised_inv_w(if area > 0 { [a, b, c] } else { [a, c, b] });
+        Ok(setup)
     }
 
     /// [`Setup::new`] for a triangle that already passed [`facing`], which gave `area`; with
@@ -331,20 +345,20 @@ impl<const V: usize> Setup<V> {
             affine::integer_depth_plane([a, b, c].map(|v| (v.x, v.y, v.z)), area.unsigned_abs(), (ox, oy))
         };
 
-        // Divided by the largest, positive and finite (`facing`): that one becomes exactly
-        // `1 << Q_BITS`, the others at most that (and at least `Q_MIN`).
-        let max_w = F32(max(max(a.inv_w, b.inv_w), c.inv_w));
-        let inv_w = [a.inv_w, b.inv_w, c.inv_w].map(|q| F32(q) / max_w);
-        let one = F32((1u32 << Q_BITS) as f32);
-        let fixed =
-            |q: F32| crate::math::f32_to_i64(times_power_of_two(q.0, one.0)).clamp(Q_MIN.into(), 1 << Q_BITS) as u32;
-        // All of `q` only where integers work perspective out (f32 uses `inv_w`); their
-        // smallest always (`fixed` keeps the order: the same value either way).
-        let (q, q_min) = if fpu {
-            ([1 << Q_BITS; 3], fixed(F32(min(min(inv_w[0].0, inv_w[1].0), inv_w[2].0))))
+        // Divided by the largest, positive and finite (`facing`): that one becomes exactly 1,
+        // the others at most that: in f32 where f32 works perspective out, else in `Q_BITS`
+        // fixed point (at least `Q_MIN`, see `perspective::normalised_q`). Their smallest in
+        // fixed point always (truncating keeps the order).
+        let (inv_w, q, q_min) = if fpu {
+            let inv_w = normalised_inv_w([a.inv_w, b.inv_w, c.inv_w]);
+            let one = F32((1u32 << Q_BITS) as f32);
+            let q_min = F32(min(min(inv_w[0].0, inv_w[1].0), inv_w[2].0));
+            let q_min = crate::math::f32_to_i64(times_power_of_two(q_min.0, one.0)).clamp(Q_MIN.into(), 1 << Q_BITS);
+            (inv_w, [1 << Q_BITS; 3], q_min as u32)
         } else {
-            let q = inv_w.map(fixed);
-            (q, q[0].min(q[1]).min(q[2]))
+            // Not read: f32 perspective is not used (see `Setup::new` for the one way to it).
+            let q = perspective::normalised_q([a.inv_w, b.inv_w, c.inv_w]);
+            ([F32(1.0); 3], q, q[0].min(q[1]).min(q[2]))
         };
 
         let v0 = a.v;

@@ -2,7 +2,7 @@
 //! [`AffinePlanes`]), for triangles whose varyings `Setup::allow_affine` finds affine within
 //! tolerance. It does not decide that (`raster` does) or step pixels (`span` does).
 
-use super::perspective::{mul_i32, mul_u32, reciprocal};
+use super::perspective::{leading_zeros, mul_i32, mul_u32, reciprocal};
 use super::Edge;
 use crate::fixed::{fdot8_floor, fdot8_round, FDot16, FDot8};
 use crate::math::{mul_wide, times_power_of_two, to_i32, wrapping_mul_small, F32};
@@ -152,7 +152,7 @@ impl AreaReciprocal {
     #[inline(always)]
     fn new(area: u32) -> Self {
         debug_assert!(area > 0 && area < 1 << 31);
-        let s = area.leading_zeros();
+        let s = leading_zeros(area);
         // Capping `2^31` itself costs 2^-31 relative.
         AreaReciprocal { r: reciprocal(area << s).min((1 << 31) - 1), s }
     }

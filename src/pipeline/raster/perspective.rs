@@ -89,6 +89,46 @@ const RECIPROCALS: [u16; 128] = {
     t
 };
 
+/// The `1/w`s `inv_w` of a triangle's vertices (positive and finite) divided by the largest, in
+/// `Q_BITS` fixed point: the largest exactly `1 << Q_BITS`, the others from the significands'
+/// quotient through [`reciprocal`] (within 3 units: the reciprocal's 2^-30 of 2^31, and the
+/// truncation), at least [`Q_MIN`] and at most `1 << Q_BITS`. In integers: no soft-float
+/// division without an FPU.
+#[inline(always)]
+pub(super) fn normalised_q(inv_w: [f32; 3]) -> [u32; 3] {
+    // Positive floats order as their bits do.
+    let bits = inv_w.map(f32::to_bits);
+    let max = bits[0].max(bits[1]).max(bits[2]);
+    let (e_max, m_max) = unpack_positive(max);
+    // `≈ 2^54 / m_max`, so that `m · r / 2^23 ≈ m · 2^31 / m_max`, below 2^32 (`m < 2 · m_max`).
+    let r = reciprocal(m_max << 8);
+    bits.map(|b| {
+        let (e, m) = unpack_positive(b);
+        let shift = (e_max - e) as u32;
+        if b == max {
+            1 << Q_BITS
+        } else if shift > 20 {
+            // Below 2^(1 - shift) of the largest: less than `Q_MIN`.
+            Q_MIN
+        } else {
+            (((mul_u32(m, r) >> 23) as u32) >> shift).clamp(Q_MIN, 1 << Q_BITS)
+        }
+    })
+}
+
+/// A positive float's exponent and significand (in `2^23..2^24`; subnormals normalised, their
+/// exponents below 1).
+#[inline(always)]
+fn unpack_positive(bits: u32) -> (i32, u32) {
+    let (e, fraction) = ((bits >> 23) as i32, bits & 0x7f_ffff);
+    if e != 0 {
+        return (e, fraction | 1 << 23);
+    }
+    // Subnormal (`fraction > 0`: the float is positive): rare, out of the way.
+    let shift = leading_zeros(fraction) - 8;
+    (1 - shift as i32, fraction << shift)
+}
+
 /// The shift for the edge functions of a triangle whose doubled area is `area` (> 0): see the
 /// module's numbers.
 #[inline(always)]
@@ -153,7 +193,7 @@ pub(super) fn linear_within<const V: usize>(dv: [i32; V], (qa, qb): (u32, u32), 
 
 /// `x.leading_zeros()` for `x > 0`, with no library call (see [`leading_zeros_searched`]).
 #[inline(always)]
-fn leading_zeros(x: u32) -> u32 {
+pub(super) fn leading_zeros(x: u32) -> u32 {
     #[cfg(any(no_hw_divide, target_arch = "riscv32"))]
     {
         leading_zeros_searched(x)
@@ -183,6 +223,33 @@ pub(super) mod tests {
     use super::super::{ScreenVertex, Setup, Window};
     use super::*;
     use crate::test_rng::Lcg;
+
+    /// `normalised_q` against the quotients in f64, for `1/w`s from subnormal to huge and depth
+    /// ratios from 1 to beyond `Q_MIN`'s: the largest exactly `1 << Q_BITS`, the others within
+    /// 3 units of the exact value, or `Q_MIN` where that is smaller.
+    #[test]
+    fn normalised_q_is_within_two_units_of_the_quotient() {
+        let mut rng = Lcg(0x3c6e_f372_fe94_f82b);
+        for t in 0..200_000 {
+            let scale = 2f64.powi(rng.below(250) as i32 - 140);
+            let ratio: f64 = [1.0, 1.0001, 3.0, 1000.0, 1e7][rng.below(5) as usize];
+            let inv_w: [f32; 3] =
+                core::array::from_fn(|_| ((scale * ratio.powf(-rng.unit())) as f32).max(f32::from_bits(1)));
+            let q = normalised_q(inv_w);
+            let max = inv_w[0].max(inv_w[1]).max(inv_w[2]);
+            for k in 0..3 {
+                let exact = f64::from(inv_w[k]) / f64::from(max) * f64::from(1u32 << Q_BITS);
+                if inv_w[k] == max {
+                    assert_eq!(q[k], 1 << Q_BITS, "{t}: {inv_w:?}");
+                } else if exact < f64::from(Q_MIN) {
+                    assert_eq!(q[k], Q_MIN, "{t}: {inv_w:?}");
+                } else {
+                    let error = (exact - f64::from(q[k])).abs();
+                    assert!(error <= 3.0, "{t}: {inv_w:?} {k}: {} for {exact}", q[k]);
+                }
+            }
+        }
+    }
 
     #[test]
     fn multiplies_and_inverts() {
