@@ -5,7 +5,7 @@
 //! does).
 
 use super::primitive::Surface;
-use super::raster::{facing_of, Corner, Reject, ScreenVertex, Setup, Window};
+use super::raster::{facing_of, Corner, CoveredBox, Reject, ScreenVertex, Setup, Window};
 use super::scratch::TransformedVertex;
 use super::span::{Base, Diffuse, Shader};
 use super::varyings::{is_texel_coordinate, PixelLit, VertexLit};
@@ -277,7 +277,8 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         Some(area) => area,
         None => facing_of(tri.each_ref().map(|c| (c.x, c.y, c.inv_w)), winding.cull_back, winding.flip)?,
     };
-    let mut setup = Setup::<V>::with_area(tri, window, area, fpu)?;
+    let bbox = CoveredBox::of(tri, window).ok_or(Reject::Empty)?;
+    let mut setup = Setup::<V>::in_box(tri, &bbox, area, fpu);
     let tolerance = affine_tolerance::<V>(tolerance);
     let mut shader = Shader::<C, D, B, Lt, DITHER> {
         area: band.area(),

@@ -202,6 +202,34 @@ pub struct Setup<const V: usize> {
     tolerance: [u32; V],
 }
 
+/// The pixel centres a triangle's bounding box holds in a window (inclusive, in frame
+/// pixels), and the box's top and bottom (28.4).
+#[derive(Clone, Copy)]
+pub(crate) struct CoveredBox {
+    x0: i32,
+    x1: i32,
+    y0: i32,
+    y1: i32,
+    min_y: i32,
+    max_y: i32,
+}
+
+impl CoveredBox {
+    /// The box of `tri` in `win`, `None` when it holds no pixel centre of the window.
+    #[inline(always)]
+    pub(crate) fn of<const V: usize>(tri: &[Corner<V>; 3], win: &Window) -> Option<Self> {
+        let [a, b, c] = tri;
+        // Pixel rows/columns whose centres (16k + 8) lie inside the bounding box.
+        let (min_x, max_x) = (a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x));
+        let (min_y, max_y) = (a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y));
+        let x0 = first_centre(min_x).max(0);
+        let x1 = last_centre(max_x).min(win.width.saturating_sub(1));
+        let y0 = first_centre(min_y).max(win.row_start.max(0));
+        let y1 = last_centre(max_y).min(win.row_end.saturating_sub(1));
+        (x0 <= x1 && y0 <= y1).then_some(CoveredBox { x0, x1, y0, y1, min_y, max_y })
+    }
+}
+
 /// Result of [`Setup::new`] when nothing is to be drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Reject {
@@ -304,23 +332,19 @@ impl<const V: usize> Setup<V> {
     /// per-triangle values.
     #[inline(always)]
     pub(crate) fn with_area(tri: &[Corner<V>; 3], win: &Window, area: i32, fpu: bool) -> Result<Self, Reject> {
+        let bbox = CoveredBox::of(tri, win).ok_or(Reject::Empty)?;
+        Ok(Self::in_box(tri, &bbox, area, fpu))
+    }
+
+    /// [`Setup::with_area`] of a triangle whose [`CoveredBox`] is `bbox` (infallible: built in
+    /// place, not moved out of a `Result`).
+    #[inline(always)]
+    pub(crate) fn in_box(tri: &[Corner<V>; 3], bbox: &CoveredBox, area: i32, fpu: bool) -> Self {
         let [p0, p1, p2] = tri;
         // Reorder so the inside is E > 0 (positive image-space area).
         let (a, b, c) = if area > 0 { (p0, p1, p2) } else { (p0, p2, p1) };
         let af = F32::from(area.unsigned_abs());
-
-        // Pixel rows/columns whose centres (16k + 8) lie inside the bounding box.
-        let min_x = a.x.min(b.x).min(c.x);
-        let max_x = a.x.max(b.x).max(c.x);
-        let min_y = a.y.min(b.y).min(c.y);
-        let max_y = a.y.max(b.y).max(c.y);
-        let x0 = first_centre(min_x).max(0);
-        let x1 = last_centre(max_x).min(win.width.saturating_sub(1));
-        let y0 = first_centre(min_y).max(win.row_start.max(0));
-        let y1 = last_centre(max_y).min(win.row_end.saturating_sub(1));
-        if x0 > x1 || y0 > y1 {
-            return Err(Reject::Empty);
-        }
+        let CoveredBox { x0, x1, y0, y1, min_y, max_y } = *bbox;
         // The origin is the bounding box's first pixel centre *of the frame*, not of the band,
         // so that every interpolated value is the same whichever band draws the pixel.
         let fy0 = first_centre(min_y).max(0);
@@ -364,7 +388,7 @@ impl<const V: usize> Setup<V> {
         let v0 = a.v;
         let d1 = core::array::from_fn(|k| b.v[k].wrapping_sub(a.v[k]));
         let d2 = core::array::from_fn(|k| c.v[k].wrapping_sub(a.v[k]));
-        Ok(Setup {
+        Setup {
             edges,
             // The median of the three.
             to_mid: a.y + b.y + c.y - min_y - max_y - oy,
@@ -388,7 +412,7 @@ impl<const V: usize> Setup<V> {
             area: area.unsigned_abs(),
             affine: None,
             tolerance: [0; V],
-        })
+        }
     }
 
     /// Rows this triangle covers in the window, as `first..=last`.
