@@ -92,12 +92,14 @@ impl<const V: usize> AffinePlanes<V> {
     fn set(&mut self, k: usize, (o, gx, gy): (FDot8, FDot8, FDot8), (width, height): (i32, i32)) -> Option<()> {
         // At least one pixel each way: the bound must hold `gx` and `gy` themselves too (the
         // per-pixel step is `gx`, rounded), also for a box one column or row wide.
-        let (w, h) = (u64::from(width.max(1) as u32), u64::from(height.max(1) as u32));
+        let (w, h) = (width.max(1) as u32, height.max(1) as u32);
         // Within 2^30 in integers: `origin + gx·x + gy·y` fits i32 for every pixel of the box,
         // and `gx + 128` too. `x ^ (x >> 31)` is `|x|` or `|x| - 1` (one instruction): the sum
-        // is at most `1 + w + h` under the exact one, still far within i32.
-        let abs = |v: i32| u64::from((v ^ (v >> 31)) as u32);
-        if abs(o) + abs(gx) * w + abs(gy) * h >= 1 << 30 {
+        // is at most `1 + w + h` under the exact one, still far within i32. The products are
+        // 32 x 32 -> 64 bits (`umull`; without one, four 16-bit products, not a 64-bit
+        // multiply's library call).
+        let abs = |v: i32| (v ^ (v >> 31)) as u32;
+        if u64::from(abs(o)) + mul_u32(abs(gx), w) + mul_u32(abs(gy), h) >= 1 << 30 {
             return None;
         }
         (self.origin[k], self.gx[k], self.gy[k], self.step[k]) = (o, gx, gy, fdot8_round(gx));
