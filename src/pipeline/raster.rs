@@ -13,7 +13,11 @@
 //!   left edge (`A > 0`) or a bottom horizontal edge (`A == 0 && B < 0`), where `A = ay - by`
 //!   and `B = bx - ax` are the coefficients of `px` and `py`.
 //! - Depth is affine in screen space and interpolated from a plane in 24.40 fixed point
-//!   (`i64`); it reaches the depth buffer as 0..=2^30.
+//!   (`i64`); it reaches the depth buffer as 0..=2^30. The per-triangle values (this plane, the
+//!   affine varyings' planes, the `1/w`s divided by the largest) come from f32 arithmetic in a
+//!   set-up for f32 perspective, and from integers otherwise (see `affine`,
+//!   `perspective::normalised_q`): each the same bits on every target, and the integer one
+//!   runs no soft-float where there is no FPU.
 //! - Varyings (texture coordinates, light, normals) are `i32` with 16 fractional bits,
 //!   interpolated with perspective-correct barycentrics `b_i = (E_i/w_i) / Σ(E_j/w_j)` (in
 //!   integers, alike on every target and without soft-float: see `perspective`; or in f32,
@@ -39,11 +43,14 @@ use crate::math::{max, min, times_16, times_power_of_two, wrapping_mul_small, F3
 mod affine;
 #[cfg(any(no_hw_divide, test))]
 mod divide;
+mod facing;
 mod perspective;
 mod pixel;
 mod rows;
 mod walk;
 use affine::AffinePlanes;
+pub(crate) use facing::{area_in_guard_band, facing_in_guard_band, facing_of, in_guard_band};
+pub use facing::{facing, MAX_COORD, MAX_EXTENT};
 use perspective::{Q_BITS, Q_MIN};
 pub(crate) use rows::{WalkedRow, WalkedRows};
 use walk::RowWalk;
@@ -244,72 +251,6 @@ pub enum Reject {
     OutsideGuardBand,
 }
 
-/// The largest extent of a triangle in 1/16 pixels: twice the guard band's half extent plus
-/// one pixel of slack, so that `A·dx + B·dy` over its bounding box fits in `i32`.
-pub const MAX_EXTENT: i32 = (2 * crate::target::GUARD_HALF_EXTENT as i32 + 1) * 16;
-
-// Twice the area of a triangle of that extent fits i32 (see `facing_in_guard_band`).
-const _: () = assert!((MAX_EXTENT as i64 - 1) * (MAX_EXTENT as i64 - 1) * 2 < 1 << 31);
-
-/// The largest absolute coordinate, in 1/16 pixels, the rasterizer accepts.
-pub const MAX_COORD: i32 = 1 << 24;
-
-/// Twice the signed image-space area of `tri` (y down), checked against the culling rule:
-/// front faces are counter-clockwise with y up, i.e. a negative area here, unless `flip`.
-///
-/// # Errors
-/// [`Reject::Degenerate`] for zero area, [`Reject::BackFace`] for a culled back face.
-pub fn facing(tri: &[ScreenVertex; 3], cull_back: bool, flip: bool) -> Result<i32, Reject> {
-    facing_of(tri.each_ref().map(|v| (v.x, v.y, v.inv_w)), cull_back, flip)
-}
-
-/// [`facing`] of the vertices' `(x, y, 1/w)`.
-pub(crate) fn facing_of(p: [(i32, i32, f32); 3], cull_back: bool, flip: bool) -> Result<i32, Reject> {
-    let w_ok = crate::math::is_positive_finite;
-    if !(in_guard_band(p.map(|p| (p.0, p.1))) && p.iter().all(|p| w_ok(p.2))) {
-        return Err(Reject::OutsideGuardBand);
-    }
-    facing_in_guard_band(p.map(|p| (p.0, p.1)), cull_back, flip)
-}
-
-/// Whether the snapped positions `p` lie within the ranges the rasterizer's integers hold for
-/// (see the module's numbers). Clipping keeps triangles inside the guard band, but float
-/// rounding (or a denormal w) can still push a vertex out.
-#[inline(always)]
-pub(crate) fn in_guard_band(p: [(i32, i32); 3]) -> bool {
-    let span = |[a, b, c]: [i32; 3]| {
-        let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
-        // Both within ±2^24, so the difference fits i32.
-        lo > -MAX_COORD && hi < MAX_COORD && hi - lo < MAX_EXTENT
-    };
-    span(p.map(|p| p.0)) && span(p.map(|p| p.1))
-}
-
-/// [`facing_of`] of positions already known [`in_guard_band`], with positive finite `1/w`s.
-#[inline(always)]
-pub(crate) fn facing_in_guard_band(p: [(i32, i32); 3], cull_back: bool, flip: bool) -> Result<i32, Reject> {
-    let area = area_in_guard_band(p);
-    if area == 0 {
-        return Err(Reject::Degenerate);
-    }
-    if cull_back && (area < 0) == flip {
-        return Err(Reject::BackFace);
-    }
-    Ok(area)
-}
-
-/// Twice the signed image-space area of positions `p` known [`in_guard_band`] (see
-/// [`facing`]).
-#[inline(always)]
-pub(crate) fn area_in_guard_band(p: [(i32, i32); 3]) -> i32 {
-    debug_assert!(in_guard_band(p));
-    let [p0, p1, p2] = p;
-    // Coordinates are less than `MAX_EXTENT` < 2^15 apart (in the guard band): each product is
-    // below 2^30 in magnitude and their difference below 2 · (MAX_EXTENT - 1)^2 < 2^31, so the
-    // area is exact in i32 (one multiply and one multiply-subtract).
-    (p1.0 - p0.0) * (p2.1 - p0.1) - (p2.0 - p0.0) * (p1.1 - p0.1)
-}
-
 impl<const V: usize> Setup<V> {
     /// Prepares `tri` for rasterization into `win`. `cull_back`: refuse back faces (front faces
     /// wind counter-clockwise with y up, see the crate's conventions); `flip` inverts which
@@ -329,7 +270,8 @@ impl<const V: usize> Setup<V> {
 
     /// [`Setup::new`] for a triangle that already passed [`facing`], which gave `area`; with
     /// `fpu`, as [`Setup::use_fpu_perspective`] makes it, without the integer perspective's
-    /// per-triangle values.
+    /// per-triangle values (and with the depth plane in f32); without, with no f32 values
+    /// (the depth plane and `1/w`s in integers).
     #[inline(always)]
     pub(crate) fn with_area(tri: &[Corner<V>; 3], win: &Window, area: i32, fpu: bool) -> Result<Self, Reject> {
         let bbox = CoveredBox::of(tri, win).ok_or(Reject::Empty)?;
@@ -426,7 +368,8 @@ impl<const V: usize> Setup<V> {
     /// and soft-float without one. Both are within the same bounds of the exact values, and
     /// each gives the same bits on every target (f32's basic operations round alike
     /// everywhere), but not the same bits as the other: a draw picks one for all its
-    /// triangles (`RenderOptions::fixed_vertices` picks integers).
+    /// triangles (`RenderOptions::fixed_vertices` picks integers). The depth plane and affine
+    /// planes stay those of [`Setup::new`] (in integers).
     pub fn use_fpu_perspective(&mut self) {
         self.fpu = true;
     }
@@ -695,21 +638,4 @@ pub struct Span<const V: usize> {
 pub trait SpanSink<const V: usize> {
     /// Draws one run.
     fn span(&mut self, span: &Span<V>);
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn facing_refuses_a_non_positive_or_non_finite_w() {
-        let v = |x: i32, y: i32, inv_w: f32| ScreenVertex { x, y, z: 0.5, inv_w, varyings: [0; 8] };
-        let tri = |w: f32| [v(0, 0, 1.0), v(160, 0, 1.0), v(0, 160, w)];
-        assert!(facing(&tri(0.5), false, false).is_ok());
-        assert!(facing(&tri(f32::MIN_POSITIVE / 2.0), false, false).is_ok(), "subnormal but positive");
-        assert!(facing(&tri(f32::MAX), false, false).is_ok());
-        for bad in [0.0, -0.0, -1.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN] {
-            assert_eq!(facing(&tri(bad), false, false), Err(Reject::OutsideGuardBand), "1/w = {bad}");
-        }
-    }
 }
