@@ -285,7 +285,6 @@ impl<const V: usize> Setup<V> {
         let [p0, p1, p2] = tri;
         // Reorder so the inside is E > 0 (positive image-space area).
         let (a, b, c) = if area > 0 { (p0, p1, p2) } else { (p0, p2, p1) };
-        let af = F32::from(area.unsigned_abs());
         let CoveredBox { x0, x1, y0, y1, min_y, max_y } = *bbox;
         // The origin is the bounding box's first pixel centre *of the frame*, not of the band,
         // so that every interpolated value is the same whichever band draws the pixel.
@@ -301,6 +300,7 @@ impl<const V: usize> Setup<V> {
             let (dz1, dz2) = (bz - az, cz - az);
             let (ex1, ey1, ex2, ey2) =
                 (F32::from(b.x - a.x), F32::from(b.y - a.y), F32::from(c.x - a.x), F32::from(c.y - a.y));
+            let af = F32::from(area.unsigned_abs());
             let gx = (dz1 * ey2 - dz2 * ey1) / af; // per 1/16 pixel
             let gy = (dz2 * ex1 - dz1 * ex2) / af;
             let z_at_origin = az + gx * F32::from(ox - a.x) + gy * F32::from(oy - a.y);
