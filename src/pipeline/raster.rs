@@ -368,8 +368,8 @@ impl<const V: usize> Setup<V> {
     /// and soft-float without one. Both are within the same bounds of the exact values, and
     /// each gives the same bits on every target (f32's basic operations round alike
     /// everywhere), but not the same bits as the other: a draw picks one for all its
-    /// triangles (`RenderOptions::fixed_vertices` picks integers). The depth plane and affine
-    /// planes stay those of [`Setup::new`] (in integers).
+    /// triangles (`RenderOptions::fixed_vertices` picks integers). The depth plane stays that
+    /// of [`Setup::new`] (in integers); affine planes allowed after this are made in f32.
     pub fn use_fpu_perspective(&mut self) {
         self.fpu = true;
     }

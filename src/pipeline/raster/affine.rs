@@ -1,6 +1,8 @@
 //! Affine varyings: one plane per varying over a triangle's box, in integers (see
 //! [`AffinePlanes`]), for triangles whose varyings `Setup::allow_affine` finds affine within
-//! tolerance. It does not decide that (`raster` does) or step pixels (`span` does).
+//! tolerance; made in f32 or, for set-ups without f32 perspective, in integers, as is their
+//! depth plane ([`integer_depth_plane`]), both through the area's reciprocal
+//! ([`AreaReciprocal`]). It does not decide that (`raster` does) or step pixels (`span` does).
 
 use super::perspective::{leading_zeros, mul_i32, mul_u32, reciprocal};
 use super::Edge;
