@@ -262,6 +262,15 @@ pub trait DepthBuffer {
             c.store(z);
         }
     }
+
+    /// The whole buffer as plain `u16` depths ([`DepthValue`] for `u16`), one per pixel of the
+    /// band in row order, when that is what it is: the span loop then indexes it directly,
+    /// checking its length once a triangle instead of each run's cells. `None` (the default)
+    /// draws through [`DepthBuffer::cells`].
+    #[inline(always)]
+    fn as_u16(&mut self) -> Option<&mut [u16]> {
+        None
+    }
 }
 
 /// What a depth buffer of plain values stores: `u16` (`z >> 14`, 0 = near plane, 65535 = far
@@ -276,6 +285,13 @@ pub trait DepthValue: Copy + PartialOrd {
     fn passes(z: u32, stored: Self) -> bool {
         Self::from_z(z) <= stored
     }
+    /// `values` as `u16`s when `Self` is `u16` (see [`DepthBuffer::as_u16`]); `None` otherwise
+    /// (the default).
+    #[inline(always)]
+    fn as_u16(values: &mut [Self]) -> Option<&mut [u16]> {
+        let _ = values;
+        None
+    }
 }
 
 impl DepthValue for u16 {
@@ -288,6 +304,10 @@ impl DepthValue for u16 {
     #[inline(always)]
     fn passes(z: u32, stored: Self) -> bool {
         z_to_u16_wide(z) <= u32::from(stored)
+    }
+    #[inline(always)]
+    fn as_u16(values: &mut [Self]) -> Option<&mut [u16]> {
+        Some(values)
     }
 }
 
@@ -325,6 +345,10 @@ impl<T: DepthValue> DepthBuffer for &mut [T] {
     }
     fn clear_depth(&mut self) {
         self.fill(T::FAR);
+    }
+    #[inline(always)]
+    fn as_u16(&mut self) -> Option<&mut [u16]> {
+        T::as_u16(self)
     }
 }
 

@@ -7,7 +7,7 @@
 use super::primitive::Surface;
 use super::raster::{facing_of, Corner, CoveredBox, Reject, ScreenVertex, Setup, Window};
 use super::scratch::TransformedVertex;
-use super::span::{Base, Diffuse, Shader};
+use super::span::{AnyCells, Base, Diffuse, RunCells, Shader, U16Cells};
 use super::varyings::{is_texel_coordinate, PixelLit, VertexLit};
 use super::vertex::{vertex_lit_varyings, VertexLight};
 use super::{Context, Shading, Stats};
@@ -280,32 +280,68 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
     let bbox = CoveredBox::of(tri, window).ok_or(Reject::Empty)?;
     let mut setup = Setup::<V>::in_box(tri, &bbox, area, fpu);
     let tolerance = affine_tolerance::<V>(tolerance);
-    let mut shader = Shader::<C, D, B, Lt, DITHER> {
-        area: band.area(),
-        color: &mut *band.color,
-        depth: &mut band.depth,
-        base,
-        lighting,
-        written: 0,
-        rejected: 0,
-        runs: 0,
+    let (area, pixels, color) = (band.area(), band.color.len(), &mut *band.color);
+    macro_rules! shader {
+        ($depth:expr) => {
+            Shader::<C, _, B, Lt, DITHER> {
+                area,
+                color,
+                depth: $depth,
+                base,
+                lighting,
+                written: 0,
+                rejected: 0,
+                runs: 0,
+            }
+        };
+    }
+    // Plain `u16` depths are indexed directly (their length checked here, once); any other
+    // buffer through its `cells`.
+    let shader = match band.depth.as_u16() {
+        Some(values) => draw(
+            shader!(U16Cells::new(values, pixels).ok_or(Reject::Empty)?),
+            &mut setup,
+            z_of(tri),
+            subspan,
+            &tolerance,
+            fpu,
+        ),
+        None => draw(shader!(AnyCells(&mut band.depth)), &mut setup, z_of(tri), subspan, &tolerance, fpu),
     };
-    // The row walks inline the span loop: only for the variants small targets draw with
-    // (flash: one copy per variant); the rest call it through `dyn` once per run. Affine
-    // varyings where they are within tolerance (integer steps: the cheapest pixels); else,
-    // with f32 perspective, the triangles whose bound allows it get perspective at each pixel.
+    stats.pixels_written += shader.0;
+    stats.depth_rejected += shader.1;
+    stats.runs += shader.2;
+    Ok(())
+}
+
+/// The depths of a triangle's corners.
+#[inline(always)]
+fn z_of<const V: usize>(tri: &[Corner<V>; 3]) -> [f32; 3] {
+    tri.each_ref().map(|v| v.z)
+}
+
+/// Draws `setup`'s pixels with `shader`: its span loop walks the rows itself for the variants
+/// small targets draw with (flash: one copy per variant); the rest call it through `dyn` once
+/// per run. Affine varyings where they are within tolerance (integer steps: the cheapest
+/// pixels); else, with f32 perspective, the triangles whose bound allows it get perspective at
+/// each pixel. The pixels written, depth-rejected, and the runs.
+#[inline(always)]
+fn draw<C: FrameColor, R: RunCells, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
+    mut shader: Shader<'_, '_, C, R, B, Lt, DITHER>,
+    setup: &mut Setup<V>,
+    z: [f32; 3],
+    subspan: u32,
+    tolerance: &[u32; V],
+    fpu: bool,
+) -> (u32, u32, u32) {
     let walk = B::WALK_ROWS && !DITHER;
-    setup.allow_affine(tolerance);
+    setup.allow_affine(*tolerance);
     let pixel = fpu && walk && !setup.is_affine();
-    let z = tri.each_ref().map(|v| v.z);
-    if !(pixel && shader.draw_pixel_rows(&setup, z, &tolerance)) {
+    if !(pixel && shader.draw_pixel_rows(setup, z, tolerance)) {
         match if walk { setup.walked_rows(subspan, z) } else { None } {
             Some(rows) => shader.draw_rows(rows),
             None => setup.for_each_span(subspan, &mut shader),
         }
     }
-    stats.pixels_written += shader.written;
-    stats.depth_rejected += shader.rejected;
-    stats.runs += shader.runs;
-    Ok(())
+    (shader.written, shader.rejected, shader.runs)
 }

@@ -20,6 +20,7 @@ use crate::fixed::{Depth30, FDot16};
 use crate::format::{decode_texel, TextureFormat};
 use crate::target::{BandArea, DepthBuffer, DepthCell, FrameColor};
 use crate::texture::{modulate, Repeat565, Sampler};
+use core::slice::IterMut;
 
 /// Where a fragment's unlit colour comes from.
 pub(super) trait Base: Copy {
@@ -121,11 +122,73 @@ impl<const V: usize> RunVaryings<V> for Stepped<V> {
     }
 }
 
+/// A band's depth buffer as the span loop reaches the cells of a run.
+pub(super) trait RunCells {
+    /// The cells of a run, in order.
+    type Cells<'a>: Iterator<Item: DepthCell>
+    where
+        Self: 'a;
+    /// The cells of the `len` pixels from entry `start`, or `None` when they are not all in
+    /// the buffer.
+    ///
+    /// # Safety
+    /// `start + len` is at most the band's colour length (`rows · width`), as
+    /// [`BandArea::run_start`] makes it.
+    unsafe fn run_cells(&mut self, start: usize, len: usize) -> Option<Self::Cells<'_>>;
+}
+
+/// Any depth buffer, through [`DepthBuffer::cells`] (which checks the range itself).
+pub(super) struct AnyCells<'b, D>(pub(super) &'b mut D);
+
+impl<D: DepthBuffer> RunCells for AnyCells<'_, D> {
+    type Cells<'a>
+        = D::Cells<'a>
+    where
+        Self: 'a;
+    #[inline(always)]
+    unsafe fn run_cells(&mut self, start: usize, len: usize) -> Option<Self::Cells<'_>> {
+        self.0.cells(start, len)
+    }
+}
+
+/// Plain `u16` depths (see [`DepthBuffer::as_u16`]) at least as many as the band's pixels.
+pub(super) struct U16Cells<'b>(&'b mut [u16]);
+
+impl<'b> U16Cells<'b> {
+    /// `values` for a band of `pixels` pixels (its colour length), when there are enough.
+    #[inline(always)]
+    pub(super) fn new(values: &'b mut [u16], pixels: usize) -> Option<Self> {
+        (values.len() >= pixels).then_some(U16Cells(values))
+    }
+}
+
+impl RunCells for U16Cells<'_> {
+    type Cells<'a>
+        = IterMut<'a, u16>
+    where
+        Self: 'a;
+    #[inline(always)]
+    unsafe fn run_cells(&mut self, start: usize, len: usize) -> Option<Self::Cells<'_>> {
+        #[cfg(feature = "checked-spans")]
+        {
+            self.0.get_mut(start..start + len).map(|cells| cells.iter_mut())
+        }
+        #[cfg(not(feature = "checked-spans"))]
+        {
+            debug_assert!(start + len <= self.0.len());
+            // SAFETY: the caller keeps `start + len` within the band's pixels (`run_cells`'s
+            // contract), and `U16Cells::new` checked that there are at least that many values.
+            Some(unsafe { self.0.get_unchecked_mut(start..start + len) }.iter_mut())
+        }
+    }
+}
+
 /// The per-pixel work for one triangle: depth test, base colour (alpha test), light, store.
 pub(super) struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     /// The band's colour slice: exactly `rows · width` entries (`Band::new` checked it).
     pub(super) color: &'b mut [C],
-    pub(super) depth: &'b mut D,
+    /// The band's depth cells.
+    pub(super) depth: D,
     /// The same band's place in the frame.
     pub(super) area: BandArea,
     pub(super) base: &'s B,
@@ -135,7 +198,7 @@ pub(super) struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     pub(super) runs: u32,
 }
 
-impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool> SpanSink<V>
+impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const V: usize, const DITHER: bool> SpanSink<V>
     for Shader<'_, '_, C, D, B, Lt, DITHER>
 {
     #[inline(never)]
@@ -144,7 +207,7 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const
     }
 }
 
-impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
+impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
     /// The body of [`SpanSink::span`], for the loops that inline it: the run of `len` pixels
     /// from frame pixel `(x, y)`, depth `z` stepping by `dz`, varyings from `vary`.
     #[inline(always)]
@@ -159,9 +222,9 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> S
         let Some(start) = self.area.run_start(x, y, len as usize) else {
             return;
         };
-        let (Some(colors), Some(cells)) =
-            (colors_of(self.color, start, len as usize), self.depth.cells(start, len as usize))
-        else {
+        // SAFETY: `run_start` gave `start` only with `start + len <= rows · width`.
+        let cells = unsafe { self.depth.run_cells(start, len as usize) };
+        let (Some(colors), Some(cells)) = (colors_of(self.color, start, len as usize), cells) else {
             return;
         };
         // By reference: copying it into the loop (once a run) costs more than its loads.
@@ -206,7 +269,7 @@ impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> S
     }
 }
 
-impl<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
+impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
     /// Draws `setup`'s rows with perspective at every pixel when its bound allows for
     /// `tolerance` and its vertices' depths `z` for that (see [`Setup::pixel_rows`]); whether
     /// it did. Out of line without an FPU,
