@@ -184,7 +184,14 @@ impl AreaReciprocal {
         // each product is below 2^62.
         let (ph, pl) = ((p >> 32) as i32, p as u32);
         let low = mul_u32(pl, self.r);
-        let hi = mul_i32(ph, self.r as i32) + (low >> 32) as i64;
+        // `ph · r` needs no product for the common `|p| < 2^32` (a library-free but long one
+        // without a widening multiply).
+        let high = match ph {
+            0 => 0,
+            -1 => -i64::from(self.r),
+            _ => mul_i32(ph, self.r as i32),
+        };
+        let hi = high + (low >> 32) as i64;
         // Below 32 the shift is left, of `|hi| < 2^46` (`p` below 2^47) by at most 15, or of
         // `|hi| < 2^(n - 1)` (`p` below `2^n`) by `32 - n`: within i64 either way.
         if n >= 32 {

@@ -26,15 +26,13 @@ pub(super) const Q_MIN: u32 = 1 << 12;
 /// Fractional bits of a weight ([`weights`]).
 const WEIGHT_BITS: u32 = 30;
 
-/// `a · b` in full, from 16-bit halves where there is no widening multiply (Armv6-M, RISC-V
-/// without `m`: a 64-bit multiply there is a library call).
+/// `a · b` in full: from 16-bit halves ([`mul_u32_halves`]) where there is no widening
+/// multiply (Armv6-M, RISC-V without `m`: a 64-bit multiply there is a library call).
 #[inline(always)]
 pub(super) fn mul_u32(a: u32, b: u32) -> u64 {
     #[cfg(no_hw_divide)]
     {
-        let (ah, al, bh, bl) = (a >> 16, a & 0xffff, b >> 16, b & 0xffff);
-        let middle = u64::from(ah * bl) + u64::from(al * bh);
-        (u64::from(ah * bh) << 32) + (middle << 16) + u64::from(al * bl)
+        mul_u32_halves(a, b)
     }
     #[cfg(not(no_hw_divide))]
     {
@@ -42,23 +40,38 @@ pub(super) fn mul_u32(a: u32, b: u32) -> u64 {
     }
 }
 
-/// `a · b` in full, signed (see [`mul_u32`]).
+/// `a · b` in full, signed (see [`mul_u32`], [`mul_i32_halves`]).
 #[inline(always)]
 pub(super) fn mul_i32(a: i32, b: i32) -> i64 {
     #[cfg(no_hw_divide)]
     {
-        // At most 2^62 in magnitude.
-        let p = mul_u32(a.unsigned_abs(), b.unsigned_abs()) as i64;
-        if (a ^ b) < 0 {
-            -p
-        } else {
-            p
-        }
+        mul_i32_halves(a, b)
     }
     #[cfg(not(no_hw_divide))]
     {
         i64::from(a) * i64::from(b)
     }
+}
+
+/// `a · b` from four 16 x 16-bit products.
+#[cfg(any(no_hw_divide, test))]
+#[inline(always)]
+fn mul_u32_halves(a: u32, b: u32) -> u64 {
+    let (ah, al, bh, bl) = (a >> 16, a & 0xffff, b >> 16, b & 0xffff);
+    let middle = u64::from(ah * bl) + u64::from(al * bh);
+    (u64::from(ah * bh) << 32) + (middle << 16) + u64::from(al * bl)
+}
+
+/// `a · b` from four 16 x 16-bit products of signed upper halves (`-2^15..2^15`) and unsigned
+/// lower ones: every partial product but the lowest fits i32 (at most `2^15 · (2^16 - 1)`),
+/// and no sign needs fixing afterwards (fewer instructions than [`mul_u32_halves`] of the
+/// magnitudes and a negation).
+#[cfg(any(no_hw_divide, test))]
+#[inline(always)]
+fn mul_i32_halves(a: i32, b: i32) -> i64 {
+    let (ah, al, bh, bl) = (a >> 16, a & 0xffff, b >> 16, b & 0xffff);
+    let middle = i64::from(ah * bl) + i64::from(al * bh);
+    (i64::from(ah * bh) << 32) + (middle << 16) + i64::from((al as u32) * (bl as u32))
 }
 
 /// `≈ 2^62 / d` for `d >= 2^31` (in `2^30..=2^31`), within about 2^-30 relative: an estimate
@@ -223,6 +236,26 @@ pub(super) mod tests {
     use super::super::{ScreenVertex, Setup, Window};
     use super::*;
     use crate::test_rng::Lcg;
+
+    /// The products from 16-bit halves are the full products, at the extremes and for random
+    /// factors of every size.
+    #[test]
+    fn products_from_halves_are_exact() {
+        let mut rng = Lcg(0x3c6e_f372_fe94_f82b);
+        let edges = [0, 1, 0xffff, 0x1_0000, 0x7fff_ffff, 0x8000_0000, 0xffff_ffff];
+        let mut pairs: std::vec::Vec<(u32, u32)> =
+            edges.iter().flat_map(|&a| edges.iter().map(move |&b| (a, b))).collect();
+        for _ in 0..100_000 {
+            let size = |rng: &mut Lcg| rng.next() as u32 >> rng.below(32);
+            pairs.push((size(&mut rng), size(&mut rng)));
+        }
+        for (a, b) in pairs {
+            assert_eq!(mul_u32_halves(a, b), u64::from(a) * u64::from(b), "{a} * {b}");
+            for (a, b) in [(a as i32, b as i32), (a as i32, (b as i32).wrapping_neg())] {
+                assert_eq!(mul_i32_halves(a, b), i64::from(a) * i64::from(b), "{a} * {b}");
+            }
+        }
+    }
 
     /// `normalised_q` against the quotients in f64, for `1/w`s from subnormal to huge and depth
     /// ratios from 1 to beyond `Q_MIN`'s: the largest exactly `1 << Q_BITS`, the others within
