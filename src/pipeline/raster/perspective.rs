@@ -246,7 +246,7 @@ pub(super) mod tests {
         let mut pairs: std::vec::Vec<(u32, u32)> =
             edges.iter().flat_map(|&a| edges.iter().map(move |&b| (a, b))).collect();
         for _ in 0..100_000 {
-            let size = |rng: &mut Lcg| rng.next() as u32 >> rng.below(32);
+            let size = |rng: &mut Lcg| rng.next() >> rng.below(32);
             pairs.push((size(&mut rng), size(&mut rng)));
         }
         for (a, b) in pairs {
