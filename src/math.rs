@@ -24,6 +24,29 @@ pub use float::F32;
 use float::{greater, less};
 pub use wide::{mul_wide, wrapping_mul_small};
 
+/// `x.leading_zeros()`: two halving steps and a table of bit lengths for the last byte, for
+/// targets with no count-leading-zeros instruction (Armv6-M, RISC-V without Zbb), where the
+/// library's `__clzsi2` costs about 34 instructions with its call and a binary search about 15.
+#[cfg(any(soft_float, no_hw_divide, target_arch = "riscv32", test))]
+#[inline(always)]
+pub(crate) fn leading_zeros_by_table(x: u32) -> u32 {
+    let (x, zeros) = if x >> 16 == 0 { (x, 16) } else { (x >> 16, 0) };
+    let (x, zeros) = if x >> 8 == 0 { (x, zeros + 8) } else { (x >> 8, zeros) };
+    zeros + 8 - u32::from(BIT_LENGTH[x as usize & 0xff])
+}
+
+/// The number of significant bits of every byte.
+#[cfg(any(soft_float, no_hw_divide, target_arch = "riscv32", test))]
+const BIT_LENGTH: [u8; 256] = {
+    let mut table = [0; 256];
+    let mut i = 1;
+    while i < 256 {
+        table[i] = table[i / 2] + 1;
+        i += 1;
+    }
+    table
+};
+
 /// Square root (libm).
 #[inline]
 #[must_use]

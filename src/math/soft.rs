@@ -9,7 +9,7 @@
 //!
 //! Compiled for tests on every target too, where `tests` compares it with the hardware.
 
-use super::order_key;
+use super::{leading_zeros_by_table as leading_zeros, order_key};
 
 const SIGN: u32 = 0x8000_0000;
 const INFINITY: u32 = 0x7f80_0000;
@@ -42,27 +42,6 @@ fn is_normal(x: u32) -> bool {
 fn is_nan(x: u32) -> bool {
     x & !SIGN > INFINITY
 }
-
-/// `x.leading_zeros()`: two halving steps and a table of bit lengths for the last byte, as
-/// Armv6-M (and RISC-V without Zbb) has no count-leading-zeros instruction, and the library's
-/// `__clzsi2` costs about 34 instructions with its call.
-#[inline(always)]
-fn leading_zeros(x: u32) -> u32 {
-    let (x, zeros) = if x >> 16 == 0 { (x, 16) } else { (x >> 16, 0) };
-    let (x, zeros) = if x >> 8 == 0 { (x, zeros + 8) } else { (x >> 8, zeros) };
-    zeros + 8 - u32::from(BIT_LENGTH[x as usize & 0xff])
-}
-
-/// The number of significant bits of every byte.
-const BIT_LENGTH: [u8; 256] = {
-    let mut table = [0; 256];
-    let mut i = 1;
-    while i < 256 {
-        table[i] = table[i / 2] + 1;
-        i += 1;
-    }
-    table
-};
 
 /// The float nearest to `sign · (mant + rest / 2^32) · 2^(e - 150)`, ties to even, for
 /// `2^23 <= mant < 2^24` and any `e`: `rest` is the fraction below the significand's last

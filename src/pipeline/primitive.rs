@@ -111,10 +111,10 @@ fn front_end<'c, const L: usize>(
     let xy = p.map(|p| (i32::from(p.xy[0]), i32::from(p.xy[1])));
     if let Some(Learnt(rows)) = learnt {
         // The tests below passed in the band that learnt its rows (the same corners).
-        debug_assert!(cached_tests(ctx, (p, xy), surface, &mut Stats::default()).is_ok_and(|k| k.1 == rows));
+        debug_assert!(cached_tests(ctx, (p, xy, true), surface, &mut Stats::default()).is_ok_and(|k| k.1 == rows));
         return Front::Cached(p, area_in_guard_band(xy), rows);
     }
-    match cached_tests(ctx, (p, xy), surface, stats) {
+    match cached_tests(ctx, (p, xy, true), surface, stats) {
         Ok((Some(area), rows)) => Front::Cached(p, area, rows),
         Ok((None, _)) => Front::Other,
         Err(rows) => Front::Done(rows),
@@ -131,11 +131,11 @@ fn unclipped_corners<'c>(s: &DrawSetup<'c>, idx: &[u32; 3]) -> Option<[&'c Trans
 
 /// The view, facing and band tests of a triangle whose corners `p` (at `xy`) are cached, finite
 /// and need no clipping: the cache vouches that they are in the guard band with positive
-/// finite `1/w`s (see [`TransformedVertex::new`]). What [`cull`] says.
+/// finite `1/w`s (see [`TransformedVertex::new`]), to be `filled` or not. What [`cull`] says.
 #[inline(always)]
 fn cached_tests<const L: usize>(
     ctx: &Context<'_, L>,
-    (p, xy): ([&TransformedVertex; 3], [(i32, i32); 3]),
+    (p, xy, filled): ([&TransformedVertex; 3], [(i32, i32); 3], bool),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> Result<(Option<i32>, TriangleRows), TriangleRows> {
@@ -144,7 +144,7 @@ fn cached_tests<const L: usize>(
         return Err(TriangleRows::EMPTY);
     }
     let facing = facing_in_guard_band(xy, surface.material.cull_back_faces, surface.flip);
-    cull(ctx, facing, xy.map(|p| p.1), stats)
+    cull(ctx, facing, (xy.map(|p| p.1), filled), stats)
 }
 
 /// Draws triangle `t` when it is not the common case of [`front_end`]: drawn without the vertex
@@ -213,7 +213,7 @@ fn other_front<const L: usize>(
         } else {
             Err(Reject::OutsideGuardBand)
         };
-        match cull(ctx, facing, xy.map(|p| p.1), stats) {
+        match cull(ctx, facing, (xy.map(|p| p.1), false), stats) {
             Ok((area, rows)) => known = (area, Some(rows)),
             Err(rows) => return Other::Done(rows),
         }
@@ -232,7 +232,7 @@ fn cached_screen<const L: usize>(
     stats: &mut Stats,
 ) -> Other {
     let xy = p.map(|p| (i32::from(p.xy[0]), i32::from(p.xy[1])));
-    let known = match cached_tests(ctx, (p, xy), surface, stats) {
+    let known = match cached_tests(ctx, (p, xy, ctx.opts.mode == Mode::Solid), surface, stats) {
         Ok((area, rows)) => (area, Some(rows)),
         Err(rows) => return Other::Done(rows),
     };
@@ -258,7 +258,7 @@ fn w_ok(inv_w: [f32; 3]) -> bool {
 fn cull<const L: usize>(
     ctx: &Context<'_, L>,
     facing: Result<i32, Reject>,
-    ys: [i32; 3],
+    (ys, filled): ([i32; 3], bool),
     stats: &mut Stats,
 ) -> Result<(Option<i32>, TriangleRows), TriangleRows> {
     let area = match facing {
@@ -272,10 +272,13 @@ fn cull<const L: usize>(
         Ok(a) => Some(a),
         Err(_) => None,
     };
-    // Rows of the unclipped triangle: a superset of what clipping leaves. A triangle that
-    // cannot touch this band is not lit, clipped or set up here (a row cache learns its rows
+    // Rows of the unclipped triangle: a superset of what clipping leaves; for a triangle
+    // `filled` unclipped, only the rows of its pixel centres. A triangle that cannot touch this
+    // band is not lit, clipped or set up here (a row cache learns its rows
     // for the later bands).
-    let rows = TriangleRows::of_ys(ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]), ctx.height);
+    let (min, max) = (ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]));
+    let rows =
+        if filled { TriangleRows::of_centres(min, max, ctx.height) } else { TriangleRows::of_ys(min, max, ctx.height) };
     if !rows.may_touch(ctx.window.row_start, ctx.window.row_end) {
         stats.outside_band += 1;
         return Err(rows);

@@ -156,13 +156,13 @@ fn floor_div(n: i32, d: i32) -> i32 {
 /// The first pixel row or column whose centre (`16k + 8`) is at or after `p` (28.4):
 /// `ceil((p - 8) / 16)`, as a shift (`p` within the guard band, so `p + 7` fits).
 #[inline(always)]
-fn first_centre(p: i32) -> i32 {
+pub(crate) fn first_centre(p: i32) -> i32 {
     (p + 7) >> 4
 }
 
 /// The last pixel row or column whose centre is at or before `p` (28.4): `floor((p - 8) / 16)`.
 #[inline(always)]
-fn last_centre(p: i32) -> i32 {
+pub(crate) fn last_centre(p: i32) -> i32 {
     (p - 8) >> 4
 }
 

@@ -8,7 +8,7 @@ use core::ops::Range;
 use super::clip::NEEDS_CLIP;
 use super::vertex::{vertex_lit_varyings, Projected, VertexLight};
 use crate::fixed::{FDot16, FDot4};
-use crate::pipeline::raster::{ScreenVertex, MAX_EXTENT};
+use crate::pipeline::raster::{first_centre, last_centre, ScreenVertex, MAX_EXTENT};
 
 /// Memory the caller lends [`Renderer::draw`](super::Renderer::draw), all of it optional:
 /// - rows ([`Scratch::with_rows`], 4 bytes a triangle counting instances): when a frame is drawn
@@ -182,12 +182,26 @@ impl TriangleRows {
     }
 
     /// [`TriangleRows::of`] the lowest and highest y (28.4).
+    #[inline(always)]
     pub(crate) fn of_ys(min: FDot4, max: FDot4, height: u16) -> Self {
-        let (min, max) = (min >> 4, max >> 4);
-        if max < 0 || min >= height as i32 {
+        Self::of_rows(min >> 4, max >> 4, height)
+    }
+
+    /// The rows whose pixel centres lie within the lowest and highest y (28.4): all that a
+    /// filled triangle covers (the rasterizer's own rows, see `raster::CoveredBox`), fewer than
+    /// [`TriangleRows::of_ys`] (a band that its rows but none of its centres reach skips it).
+    #[inline(always)]
+    pub(crate) fn of_centres(min: FDot4, max: FDot4, height: u16) -> Self {
+        Self::of_rows(first_centre(min), last_centre(max), height)
+    }
+
+    /// Rows `first..=last` of a frame `height` rows high, empty when none is in it.
+    #[inline(always)]
+    fn of_rows(first: i32, last: i32, height: u16) -> Self {
+        if last < first.max(0) || first >= height as i32 {
             return Self::EMPTY;
         }
-        TriangleRows { first: min.max(0) as u16, last: max.min(height as i32 - 1) as u16 }
+        TriangleRows { first: first.max(0) as u16, last: last.min(height as i32 - 1) as u16 }
     }
 }
 

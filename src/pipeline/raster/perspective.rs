@@ -204,31 +204,18 @@ pub(super) fn linear_within<const V: usize>(dv: [i32; V], (qa, qb): (u32, u32), 
     (0..V).all(|k| mul_u32(dv[k].unsigned_abs(), diff) <= mul_u32(four_tolerance[k], lo))
 }
 
-/// `x.leading_zeros()` for `x > 0`, with no library call (see [`leading_zeros_searched`]).
+/// `x.leading_zeros()` for `x > 0`, with no library call (see
+/// [`leading_zeros_by_table`](crate::math::leading_zeros_by_table)).
 #[inline(always)]
 pub(super) fn leading_zeros(x: u32) -> u32 {
     #[cfg(any(no_hw_divide, target_arch = "riscv32"))]
     {
-        leading_zeros_searched(x)
+        crate::math::leading_zeros_by_table(x)
     }
     #[cfg(not(any(no_hw_divide, target_arch = "riscv32")))]
     {
         x.leading_zeros()
     }
-}
-
-/// `x.leading_zeros()` for `x > 0` by a binary search, where there is no instruction for it
-/// (Armv6-M, RISC-V without `Zbb`: there it is a library call).
-#[cfg(any(no_hw_divide, target_arch = "riscv32", test))]
-#[inline(always)]
-fn leading_zeros_searched(x: u32) -> u32 {
-    let (mut x, mut n) = (x, 0);
-    for bits in [16, 8, 4, 2, 1] {
-        if x < 1 << (32 - bits) {
-            (x, n) = (x << bits, n + bits);
-        }
-    }
-    n
 }
 
 #[cfg(test)]
@@ -292,7 +279,7 @@ pub(super) mod tests {
             let (a, b) = (next(), next());
             assert_eq!(mul_u32(a, b), a as u64 * b as u64);
             let x = a >> (b % 32) | 1;
-            assert_eq!(leading_zeros_searched(x), x.leading_zeros());
+            assert_eq!(crate::math::leading_zeros_by_table(x), x.leading_zeros());
             let (a, b) = (a as i32, b as i32);
             assert_eq!(mul_i32(a, b), a as i64 * b as i64);
             let d = next() | 1 << 31;
