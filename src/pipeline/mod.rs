@@ -388,57 +388,102 @@ fn is_grey(c: Vec3) -> bool {
 
 /// Per-draw constants.
 pub(crate) struct DrawSetup<'a> {
+    /// The draw's transforms; `None` in a band that fills every triangle from the vertex cache,
+    /// which needs none (see `draw_mesh_with`).
+    transforms: Option<Transforms>,
+    pub(crate) flip: bool,
+    pub(crate) uv: ([f32; 2], [f32; 2]),
+    pub(crate) mesh: Mesh<'a>,
+    pub(crate) arrays: Arrays<'a>,
+    /// The draw's filled vertex cache, when it has one (see `vertex::fill_cache`).
+    pub(crate) vertices: Option<&'a [TransformedVertex]>,
+}
+
+/// What a draw transforms and lights vertices with: matrices, and their integer forms.
+pub(crate) struct Transforms {
     pub(crate) mvp: Mat4,
     pub(crate) model_q: Mat4,
     pub(crate) normals: Mat3,
     /// `normals` is a rotation (to 1e-6): stored unit normals stay unit, no normalising.
     pub(crate) rotation: bool,
-    pub(crate) flip: bool,
-    pub(crate) uv: ([f32; 2], [f32; 2]),
-    pub(crate) mesh: Mesh<'a>,
-    pub(crate) arrays: Arrays<'a>,
     /// The integer transform and the bounding sphere it maps float positions into, with
     /// [`RenderOptions::fixed_vertices`].
     pub(crate) fixed: Option<(FixedTransform, (Vec3, f32))>,
     /// Gouraud vertex light in integers, with [`RenderOptions::fixed_vertices`] when the lights
     /// allow it (see [`PreparedLights::fixed`]).
     pub(crate) fixed_lights: Option<FixedLights<MAX_FIXED_LIGHTS>>,
-    /// The draw's filled vertex cache, when it has one (see `vertex::fill_cache`).
-    pub(crate) vertices: Option<&'a [TransformedVertex]>,
 }
 
 /// The most lights the fixed-point vertex path evaluates in integers (more: in f32).
 const MAX_FIXED_LIGHTS: usize = 8;
 
-impl<'a> DrawSetup<'a> {
-    pub(crate) fn new<C, D, const L: usize>(
-        _band: &Band<'_, C, D>,
-        ctx: &Context<'_, L>,
-        mesh: Mesh<'a>,
-        world: Mat4,
-    ) -> Self {
-        let model_q = world * mesh.dequantize();
-        let normals = normal_matrix(&world);
-        let (mvp, arrays, sphere) = (ctx.vp * model_q, mesh.arrays(), mesh.bounding_sphere());
+/// What [`DrawSetup::transforms`] gives a draw that has none (it never asks: see there).
+static NO_TRANSFORMS: Transforms = Transforms {
+    mvp: Mat4::IDENTITY,
+    model_q: Mat4::IDENTITY,
+    normals: Mat3::IDENTITY,
+    rotation: true,
+    fixed: None,
+    fixed_lights: None,
+};
+
+impl Transforms {
+    /// The transforms of `mesh` placed by `world`.
+    fn new<const L: usize>(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4) -> Self {
+        let model_q = *world * mesh.dequantize();
+        let normals = normal_matrix(world);
+        let (mvp, sphere) = (ctx.vp * model_q, mesh.bounding_sphere());
         let fixed = ctx.opts.fixed_vertices.then_some(()).and_then(|()| {
-            let (offset, step) = arrays.int_position_frame(sphere);
+            let (offset, step) = mesh.arrays().int_position_frame(sphere);
             Some((FixedTransform::new(&mvp, offset, step)?, sphere))
         });
         let rotation = crate::math::is_rotation(&normals);
         let integer_light = ctx.opts.fixed_vertices && rotation && !ctx.lit_by_position;
-        DrawSetup {
+        Transforms {
             mvp,
             fixed,
             fixed_lights: integer_light.then(|| ctx.vertex_lights.fixed(&normals)).flatten(),
             model_q,
             normals,
             rotation,
-            flip: Mat3::from_mat4(world).determinant() < 0.0,
+        }
+    }
+}
+
+impl<'a> DrawSetup<'a> {
+    /// The draw of `mesh` placed by `world`. Not inlined: the matrix temporaries stay out of
+    /// the caller's frame, which lives on under the rasterizer.
+    #[inline(never)]
+    pub(crate) fn new<const L: usize>(ctx: &Context<'_, L>, mesh: Mesh<'a>, world: Mat4) -> Self {
+        Self::with(Some(Transforms::new(ctx, &mesh, &world)), mesh, &world)
+    }
+
+    /// [`DrawSetup::new`] without the transforms, for a band that fills every triangle from the
+    /// vertex cache and so needs none (see `draw_mesh_with`).
+    #[inline(always)]
+    pub(crate) fn without_transforms(mesh: Mesh<'a>, world: &Mat4) -> Self {
+        Self::with(None, mesh, world)
+    }
+
+    #[inline(always)]
+    fn with(transforms: Option<Transforms>, mesh: Mesh<'a>, world: &Mat4) -> Self {
+        DrawSetup {
+            transforms,
+            flip: Mat3::from_mat4(*world).determinant() < 0.0,
             uv: mesh.uv_transform(),
-            arrays,
+            arrays: mesh.arrays(),
             mesh,
             vertices: None,
         }
+    }
+
+    /// The draw's transforms. A setup made without them is never asked: it draws only
+    /// triangles whose corners are all in the vertex cache and none needs clipping (and if it
+    /// were, the identity is no panic).
+    #[inline]
+    pub(crate) fn transforms(&self) -> &Transforms {
+        debug_assert!(self.transforms.is_some(), "transforms asked of a draw made without them");
+        self.transforms.as_ref().unwrap_or(&NO_TRANSFORMS)
     }
 }
 
@@ -448,21 +493,31 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     model: &Model<'_>,
     mesh: &Mesh<'_>,
     world: Mat4,
-    (mut rows, vertices): (Option<&mut [TriangleRows]>, Option<&mut [TransformedVertex]>),
-) -> Stats {
+    ((mut rows, vertices), unclipped): (Caches<'_>, bool),
+) -> (Stats, bool) {
     let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
     if !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
         stats.culled_frustum_mesh = mesh.triangle_count();
         if let Some(rows) = rows {
             rows.fill(TriangleRows::EMPTY);
         }
-        return stats;
+        return (stats, false);
     }
-    let mut setup = DrawSetup::new(band, ctx, *mesh, world);
     // The cache holds one set of texel coordinates, and nothing Phong needs.
     let scale = uniform_texel_scale(ctx, model, mesh).filter(|_| ctx.opts.shading != Shading::Phong);
+    // A band after the first whose draw has all its vertices `unclipped` in the cache fills
+    // every triangle from it: it needs no transforms (matrix products: soft-float without an
+    // FPU), but for flat shading's face light. Any other works them out here, at the top of
+    // the draw (not under a triangle, where the stack is deeper).
+    let filled = vertices.as_deref().is_some_and(vertex::is_filled) && scale.is_some();
+    let mut setup = if filled && unclipped && ctx.opts.mode == Mode::Solid && ctx.opts.shading != Shading::Flat {
+        DrawSetup::without_transforms(*mesh, &world)
+    } else {
+        DrawSetup::new(ctx, *mesh, world)
+    };
+    let mut filled_unclipped = false;
     if let (Some(cache), Some(scale)) = (vertices, scale) {
-        vertex::fill_cache(ctx, &setup, cache, scale);
+        filled_unclipped = vertex::fill_cache(ctx, &setup, cache, scale);
         setup.vertices = Some(cache);
     }
     for sub in mesh.submeshes() {
@@ -482,8 +537,11 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
             }),
         }
     }
-    stats
+    (stats, filled_unclipped)
 }
+
+/// A draw's rows and vertices in the scratch (see [`Scratch::for_draw`]).
+type Caches<'s> = (Option<&'s mut [TriangleRows]>, Option<&'s mut [TransformedVertex]>);
 
 /// Draws (with `draw`) the triangles from `first` on whose rows `seen` may touch rows
 /// `start..end`, learning their rows, and returns how many. Out of line, a loop of its own: in a
@@ -535,10 +593,15 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
 ) -> Stats {
     let mut stats = Stats::default();
     let (mut triangles, mut vertices) = (0usize, 0usize);
-    for (mesh, world) in model.draws() {
+    for (d, (mesh, world)) in model.draws().enumerate() {
         let (nt, nv) = (mesh.triangle_count() as usize, mesh.vertex_count() as usize);
+        let unclipped = scratch.unclipped(d);
         let caches = scratch.for_draw(triangles..triangles + nt, vertices..vertices + nv);
-        stats += draw_mesh_with(band, ctx, model, &mesh, transform * world, caches);
+        let (s, filled_unclipped) = draw_mesh_with(band, ctx, model, &mesh, transform * world, (caches, unclipped));
+        stats += s;
+        if filled_unclipped {
+            scratch.set_unclipped(d);
+        }
         triangles += nt;
         vertices += nv;
     }

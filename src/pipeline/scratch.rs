@@ -35,6 +35,9 @@ pub struct Scratch<'s> {
     owner: Option<Owner>,
     /// Whether the current draw is that owner (see [`Scratch::claim`]).
     owned: bool,
+    /// Bit `d`: the vertices of the owner's draw `d` (below 64) are cached and none needs
+    /// clipping, so its later bands need no transforms (see `DrawSetup::lazy`).
+    unclipped: u64,
 }
 
 /// A digest (64-bit FNV-1a) of everything the cached rows and vertices depend on: the model's
@@ -71,7 +74,7 @@ impl Scratch<'static> {
     /// No scratch memory: every band does all the work, and back-to-front order is refused.
     #[must_use]
     pub fn none() -> Self {
-        Scratch { rows: &mut [], vertices: &mut [], sort: &mut [], owner: None, owned: false }
+        Scratch { rows: &mut [], vertices: &mut [], sort: &mut [], owner: None, owned: false, unclipped: 0 }
     }
 }
 
@@ -83,7 +86,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         rows.fill(TriangleRows::UNKNOWN);
-        Scratch { rows, vertices: self.vertices, sort: self.sort, owner: None, owned: false }
+        Scratch { rows, vertices: self.vertices, sort: self.sort, owner: None, owned: false, unclipped: 0 }
     }
 
     /// Adds a vertex cache of `vertices` (reset), one entry a vertex.
@@ -93,7 +96,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         vertices.fill(TransformedVertex::UNKNOWN);
-        Scratch { rows: self.rows, vertices, sort: self.sort, owner: None, owned: false }
+        Scratch { rows: self.rows, vertices, sort: self.sort, owner: None, owned: false, unclipped: 0 }
     }
 
     /// Adds the sort list of [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront), one
@@ -103,7 +106,14 @@ impl<'s> Scratch<'s> {
     where
         's: 't,
     {
-        Scratch { rows: self.rows, vertices: self.vertices, sort, owner: self.owner, owned: false }
+        Scratch {
+            rows: self.rows,
+            vertices: self.vertices,
+            sort,
+            owner: self.owner,
+            owned: false,
+            unclipped: self.unclipped,
+        }
     }
 
     /// Forgets the rows and vertices of the last frame (call at the start of a frame).
@@ -111,6 +121,7 @@ impl<'s> Scratch<'s> {
         self.rows.fill(TriangleRows::UNKNOWN);
         self.vertices.fill(TransformedVertex::UNKNOWN);
         self.owner = None;
+        self.unclipped = 0;
     }
 
     /// Starts a draw for `owner`: it may use the rows and vertices when it is the first draw
@@ -131,6 +142,21 @@ impl<'s> Scratch<'s> {
             return (None, None);
         }
         (self.rows.get_mut(triangles), self.vertices.get_mut(vertices))
+    }
+
+    /// Whether the owner's draw `d` has its vertices cached, none needing clipping (see
+    /// [`Scratch::set_unclipped`]).
+    #[inline]
+    pub(crate) fn unclipped(&self, d: usize) -> bool {
+        self.owned && d < 64 && self.unclipped >> d & 1 != 0
+    }
+
+    /// Records that draw `d` filled its vertex cache and none of them needs clipping.
+    #[inline]
+    pub(crate) fn set_unclipped(&mut self, d: usize) {
+        if self.owned && d < 64 {
+            self.unclipped |= 1 << d;
+        }
     }
 
     /// The sort list.

@@ -4,7 +4,7 @@
 //! super::Scratch::with_vertices)) each vertex is done once a frame. It does not decide what is
 //! culled or clipped (`primitive` does).
 
-use super::clip::{outcode, ClipVertex};
+use super::clip::{outcode, ClipVertex, NEEDS_CLIP, NOT_FINITE};
 use super::raster::ScreenVertex;
 use super::scratch::{TransformedVertex, UNKNOWN_INV_W};
 use super::varyings::{ClipVaryings, PixelLit, ScreenVaryings, VertexLit, MAX_VARYINGS};
@@ -57,7 +57,7 @@ impl Projected {
 /// Vertex `i` in clip space.
 #[inline(always)]
 pub(crate) fn clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
-    match &s.fixed {
+    match &s.transforms().fixed {
         Some(fixed) => fixed_clip_position(s, fixed, i),
         None => float_clip_position(s, i),
     }
@@ -72,19 +72,20 @@ fn fixed_clip_position(s: &DrawSetup<'_>, (t, sphere): &(FixedTransform, (Vec3, 
 /// [`clip_position`] without the integer transform.
 #[inline(always)]
 fn float_clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
-    s.mvp * s.arrays.position_stored(i).extend(1.0)
+    s.transforms().mvp * s.arrays.position_stored(i).extend(1.0)
 }
 
 /// Vertex `i` in world space.
 pub(crate) fn world_position(s: &DrawSetup<'_>, i: u32) -> Vec3 {
-    s.model_q.transform_point3(s.arrays.position_stored(i))
+    s.transforms().model_q.transform_point3(s.arrays.position_stored(i))
 }
 
 /// Vertex `i`'s world-space unit normal.
 #[inline(always)]
 pub(crate) fn world_normal(s: &DrawSetup<'_>, i: u32) -> Vec3 {
-    let n = s.normals * s.arrays.normal(i);
-    if s.rotation {
+    let t = s.transforms();
+    let n = t.normals * s.arrays.normal(i);
+    if t.rotation {
         n
     } else {
         normalize_or_zero(n)
@@ -97,7 +98,7 @@ pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'
     if ctx.opts.shading != Shading::Gouraud {
         return [0; 4];
     }
-    if let Some(lights) = &s.fixed_lights {
+    if let Some(lights) = &s.transforms().fixed_lights {
         let [r, g, b] = lights.at(s.arrays.normal_q(i));
         return [r, g, b, 0];
     }
@@ -148,26 +149,28 @@ fn vertex_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &
 /// (its first vertex is known). All at once rather than on first use: the loops keep the
 /// matrices and lights at hand (positions in one, light in another, so that each has registers
 /// enough), and a triangle's corners are then plain loads. A first vertex whose `1/w` really
-/// is +0 only makes every band fill it again, with the same results. Not inlined: its frame is
-/// gone before the triangles are drawn (the deepest stack).
+/// is +0 only makes every band fill it again, with the same results. Whether it filled it now
+/// with no vertex that needs clipping (or is not finite). Not inlined: its frame is gone before
+/// the triangles are drawn (the deepest stack).
 #[inline(never)]
 pub(crate) fn fill_cache<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     cache: &mut [TransformedVertex],
     scale: (f32, f32),
-) {
-    if cache.first().is_some_and(|v| v.inv_w.to_bits() != UNKNOWN_INV_W) {
-        return;
+) -> bool {
+    if is_filled(cache) {
+        return false;
     }
     // One loop per case, its tests made once: the loops keep more of the matrices in registers.
-    match &s.fixed {
+    let t = s.transforms();
+    match &t.fixed {
         Some(fixed) => fill_positions(ctx, s, cache, scale, |i| fixed_clip_position(s, fixed, i)),
-        None => fill_positions(ctx, s, cache, scale, |i| float_clip_position(s, i)),
+        None => fill_positions(ctx, s, cache, scale, |i| t.mvp * s.arrays.position_stored(i).extend(1.0)),
     }
     match ctx.opts.shading {
         Shading::Unlit => fill_light(cache, |i| coloured_light(s, i, WHITE)),
-        Shading::Gouraud => match &s.fixed_lights {
+        Shading::Gouraud => match &t.fixed_lights {
             Some(lights) => fill_light(cache, |i| {
                 let [r, g, b] = lights.at(s.arrays.normal_q(i));
                 coloured_light(s, i, [r, g, b, 0])
@@ -176,6 +179,13 @@ pub(crate) fn fill_cache<const L: usize>(
         },
         Shading::Flat | Shading::Phong => fill_light(cache, |i| coloured_light(s, i, [0; 4])),
     }
+    cache.iter().fold(0, |o, v| o | v.outcode) & (NEEDS_CLIP | NOT_FINITE) == 0
+}
+
+/// Whether `cache` was filled this frame (see [`fill_cache`]).
+#[inline(always)]
+pub(crate) fn is_filled(cache: &[TransformedVertex]) -> bool {
+    cache.first().is_some_and(|v| v.inv_w.to_bits() != UNKNOWN_INV_W)
 }
 
 /// [`fill_cache`]'s positions, with `position` giving a vertex's clip-space position.
