@@ -496,7 +496,9 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     ((mut rows, vertices), unclipped): (Caches<'_>, bool),
 ) -> (Stats, bool) {
     let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
-    if !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
+    // `unclipped`: an earlier band of this frame found the mesh in view (the same test, for the
+    // same camera and transform).
+    if !unclipped && !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
         stats.culled_frustum_mesh = mesh.triangle_count();
         if let Some(rows) = rows {
             rows.fill(TriangleRows::EMPTY);
