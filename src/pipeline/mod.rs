@@ -247,6 +247,9 @@ impl std::error::Error for DrawError {}
 #[derive(Clone, Copy, Debug)]
 pub struct Renderer<'f, const L: usize> {
     camera: &'f Camera,
+    /// The camera's view-projection matrix, worked out once (not in every band: soft-float
+    /// without an FPU).
+    vp: Mat4,
     lights: &'f Lights<L>,
     options: RenderOptions,
 }
@@ -256,7 +259,7 @@ impl<'f, const L: usize> Renderer<'f, L> {
     /// change it).
     #[must_use]
     pub fn new(camera: &'f Camera, lights: &'f Lights<L>, options: RenderOptions) -> Self {
-        Renderer { camera, lights, options }
+        Renderer { camera, vp: camera.view_projection(), lights, options }
     }
 
     /// Lets this draw use `scratch`'s rows and vertices if they are its own (see
@@ -307,7 +310,7 @@ impl<'f, const L: usize> Renderer<'f, L> {
         transform: Mat4,
         scratch: &mut Scratch<'_>,
     ) -> Result<Stats, DrawError> {
-        let ctx = Context::new(band, self.camera, self.lights, &self.options);
+        let ctx = Context::new(band, (self.camera, self.vp), self.lights, &self.options);
         match self.options.order {
             DrawOrder::AsStored => {
                 self.claim(scratch, model, transform, &ctx);
@@ -345,13 +348,13 @@ pub(crate) struct Context<'l, const L: usize> {
 impl<'l, const L: usize> Context<'l, L> {
     pub(crate) fn new<C, D>(
         band: &Band<'_, C, D>,
-        camera: &Camera,
+        (camera, vp): (&Camera, Mat4),
         lights: &'l Lights<L>,
         opts: &RenderOptions,
     ) -> Self {
         let (w, h) = (band.width as f32, band.height as f32);
         Context {
-            vp: camera.view_projection(),
+            vp,
             eye: camera.eye,
             lights,
             vertex_lights: lights.prepared(),
