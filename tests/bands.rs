@@ -27,10 +27,14 @@ fn camera(model: &Model<'_>) -> Camera {
 /// Bands use a [`Scratch`]: with every vertex cached for 1-row bands, without a vertex cache
 /// for 7 rows, and with a vertex cache one entry short (the last draw goes uncached) for others.
 fn render(model: &Model<'_>, opts: &RenderOptions, rows: u16) -> (Vec<Rgb888>, Vec<u16>) {
+    render_with(model, &camera(model), opts, rows)
+}
+
+/// [`render`] with the camera `cam`.
+fn render_with(model: &Model<'_>, cam: &Camera, opts: &RenderOptions, rows: u16) -> (Vec<Rgb888>, Vec<u16>) {
     let (w, h) = (W as usize, H as usize);
     let mut color = vec![Rgb888::new(0, 0, 0); w * h];
     let mut depth = vec![0u16; w * h];
-    let cam = camera(model);
     let lights = Lights::<4>::from_model(model);
     let spin = Mat4::from_rotation_y(0.3);
     let (triangles, vertices) =
@@ -48,11 +52,11 @@ fn render(model: &Model<'_>, opts: &RenderOptions, rows: u16) -> (Vec<Rgb888>, V
         band.clear(Rgb888::new(10, 20, 30));
         // The whole frame uses no scratch, bands the row cache: both must agree.
         if rows == H {
-            soft3d::Renderer::new(&cam, &lights, *opts)
+            soft3d::Renderer::new(cam, &lights, *opts)
                 .draw(&mut band, model, spin, &mut soft3d::Scratch::none())
                 .unwrap();
         } else {
-            soft3d::Renderer::new(&cam, &lights, *opts).draw(&mut band, model, spin, &mut cache).unwrap();
+            soft3d::Renderer::new(cam, &lights, *opts).draw(&mut band, model, spin, &mut cache).unwrap();
         }
     }
     (color, depth)
@@ -86,6 +90,39 @@ fn bands_equal_the_whole_frame_in_every_mode() {
                 for rows in [1, 7, 16] {
                     assert!(render(&model, &opts, rows) == whole, "{shading:?} {mode:?} {subspan}: bands of {rows}");
                 }
+            }
+        }
+    }
+}
+
+/// With the near plane through the model, later bands draw clipped triangles from the same
+/// vertex cache: they must still work the draw's transforms out (bands skip them only for
+/// draws whose cached vertices need no clipping), in every shading and with the fixed-point
+/// vertices too.
+#[test]
+fn bands_equal_the_whole_frame_with_the_near_plane_through_the_model() {
+    let bytes = model_bytes("suzanne/monkey.babylon");
+    let model = Model::parse(&bytes).unwrap();
+    let (centre, radius) = model.bounds().unwrap();
+    let eye = centre + Vec3::new(0.3, 0.2, 2.0 * radius);
+    let cam =
+        Camera::perspective(eye, centre, 0.8, W as f32 / H as f32, 2.0 * radius - 0.3 * radius, 10.0 * radius).unwrap();
+    let lights = Lights::<4>::from_model(&model);
+    for shading in [Shading::Flat, Shading::Gouraud] {
+        for fixed_vertices in [false, true] {
+            let opts = RenderOptions { shading, fixed_vertices, ..Default::default() };
+            let mut color = vec![Rgb888::new(0, 0, 0); W as usize * H as usize];
+            let mut band = Band::new(&mut color[..], NoDepth, W, H, 0).unwrap();
+            let stats = Renderer::new(&cam, &lights, opts)
+                .draw(&mut band, &model, Mat4::from_rotation_y(0.3), &mut Scratch::none())
+                .unwrap();
+            assert!(stats.clipped > 10 && stats.drawn > 100, "{shading:?}: nothing to prove: {stats:?}");
+            let whole = render_with(&model, &cam, &opts, H);
+            for rows in [1, 16] {
+                assert!(
+                    render_with(&model, &cam, &opts, rows) == whole,
+                    "{shading:?} {fixed_vertices}: bands of {rows}"
+                );
             }
         }
     }
@@ -177,4 +214,46 @@ fn a_scratch_reused_for_another_draw_in_the_frame_changes_nothing() {
         draw(&mut shared, &suzanne, &lights, opts, turned)
             == draw(&mut Scratch::none(), &suzanne, &lights, opts, turned)
     );
+}
+
+/// A depth buffer that says it has the band's length but hands the span loop fewer plain
+/// values (`DepthBuffer::as_u16`): nothing is drawn through them (no panic, and no unchecked
+/// index beyond them); the same buffer handing all of them draws the frame.
+#[test]
+fn a_depth_buffer_with_too_few_plain_values_draws_nothing() {
+    use soft3d::DepthBuffer;
+    struct Short<'a>(&'a mut [u16], usize);
+    impl DepthBuffer for Short<'_> {
+        type Cells<'b>
+            = core::slice::IterMut<'b, u16>
+        where
+            Self: 'b;
+        fn depth_len(&self) -> Option<usize> {
+            Some(self.0.len())
+        }
+        fn cells(&mut self, start: usize, len: usize) -> Option<Self::Cells<'_>> {
+            self.0.get_mut(start..start.checked_add(len)?).map(|c| c.iter_mut())
+        }
+        fn clear_depth(&mut self) {
+            self.0.fill(u16::MAX);
+        }
+        fn as_u16(&mut self) -> Option<&mut [u16]> {
+            let n = self.1;
+            self.0.get_mut(..n)
+        }
+    }
+    let bytes = model_bytes("suzanne/monkey.babylon");
+    let model = Model::parse(&bytes).unwrap();
+    let (cam, lights) = (camera(&model), Lights::<4>::from_model(&model));
+    let pixels = W as usize * H as usize;
+    for (given, drawn) in [(pixels - 1, false), (pixels, true)] {
+        let (mut color, mut depth) = (vec![Rgb888::new(0, 0, 0); pixels], vec![u16::MAX; pixels]);
+        let mut band = Band::new(&mut color[..], Short(&mut depth[..], given), W, H, 0).unwrap();
+        let stats = Renderer::new(&cam, &lights, RenderOptions::default())
+            .draw(&mut band, &model, Mat4::IDENTITY, &mut Scratch::none())
+            .unwrap();
+        assert_eq!(stats.pixels_written > 1000, drawn, "{given} values: {stats:?}");
+        assert_eq!(color.iter().any(|&c| c != Rgb888::new(0, 0, 0)), drawn);
+        assert_eq!(depth.iter().any(|&d| d != u16::MAX), drawn);
+    }
 }
