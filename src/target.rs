@@ -344,11 +344,35 @@ impl<T: DepthValue> DepthBuffer for &mut [T] {
         self.get_mut(start..start.checked_add(len)?).map(|s| s.iter_mut())
     }
     fn clear_depth(&mut self) {
-        self.fill(T::FAR);
+        match T::as_u16(self) {
+            Some(values) => fill_u16_in_blocks(values, <u16 as DepthValue>::FAR),
+            None => self.fill(T::FAR),
+        }
     }
     #[inline(always)]
     fn as_u16(&mut self) -> Option<&mut [u16]> {
         T::as_u16(self)
+    }
+}
+
+/// Fills `values` with `value`, 32 bytes a block in their word-aligned middle: from eight
+/// registers (`stm` on Cortex-M4; the library's `memset` stores 16 bytes in six instructions).
+/// Not on Cortex-M0+, whose eight low registers cannot hold the block beside the loop's own
+/// values: there the library's word stores are as fast.
+fn fill_u16_in_blocks(values: &mut [u16], value: u16) {
+    #[cfg(no_hw_divide)]
+    values.fill(value);
+    #[cfg(not(no_hw_divide))]
+    {
+        let (head, blocks, tail) = bytemuck::pod_align_to_mut::<u16, [u32; 8]>(values);
+        head.fill(value);
+        tail.fill(value);
+        // Eight opaque copies (a visible value turns the loop back into `memset`), held in
+        // registers.
+        let block: [u32; 8] = core::array::from_fn(|_| core::hint::black_box(u32::from(value) * 0x1_0001));
+        for b in blocks {
+            *b = block;
+        }
     }
 }
 
@@ -568,6 +592,23 @@ impl BandArea {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The block fill writes `value` to every entry of slices of every length and start
+    /// (word-aligned or not, shorter than a block or not), and nothing beside them.
+    #[test]
+    fn fill_u16_in_blocks_fills_exactly_the_slice() {
+        let mut buffer = [0u16; 80];
+        for start in 0..4 {
+            for len in 0..(buffer.len() - start - 1) {
+                buffer.fill(7);
+                fill_u16_in_blocks(&mut buffer[start..start + len], 0xabcd);
+                for (i, &v) in buffer.iter().enumerate() {
+                    let inside = (start..start + len).contains(&i);
+                    assert_eq!(v, if inside { 0xabcd } else { 7 }, "start {start}, len {len}, entry {i}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn wrong_lengths_are_errors() {
