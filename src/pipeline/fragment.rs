@@ -288,6 +288,7 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
                 color,
                 depth: $depth,
                 base,
+                v_shift: base.v_shift(),
                 lighting,
                 written: 0,
                 rejected: 0,

@@ -192,6 +192,8 @@ pub(super) struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     /// The same band's place in the frame.
     pub(super) area: BandArea,
     pub(super) base: &'s B,
+    /// `base.v_shift()`, read once a triangle (not once a run through `base`).
+    pub(super) v_shift: u32,
     pub(super) lighting: &'s Lt,
     pub(super) written: u32,
     pub(super) rejected: u32,
@@ -229,7 +231,7 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         };
         // By reference: copying it into the loop (once a run) costs more than its loads.
         let base = self.base;
-        vary.shift_v(base.v_shift());
+        vary.shift_v(self.v_shift);
         let (mut rejected, mut cut) = (0, 0);
         for (k, (px, mut cell)) in colors.iter_mut().zip(cells).enumerate() {
             if !cell.passes(z) {
