@@ -205,7 +205,8 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const V: usize, const DI
 {
     #[inline(never)]
     fn span(&mut self, s: &Span<V>) {
-        self.run((s.x, s.y, s.len), (s.z, s.dz), Stepped(s.v, s.dv));
+        let base = self.base;
+        self.run(base, (s.x, s.y, s.len), (s.z, s.dz), Stepped(s.v, s.dv));
     }
 }
 
@@ -215,6 +216,7 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
     #[inline(always)]
     pub(super) fn run<const V: usize, R: RunVaryings<V>>(
         &mut self,
+        base: &B,
         (x, y, len): (i32, i32, u32),
         (mut z, dz): (Depth30, i32),
         mut vary: R,
@@ -229,8 +231,6 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         let (Some(colors), Some(cells)) = (colors_of(self.color, start, len as usize), cells) else {
             return;
         };
-        // By reference: copying it into the loop (once a run) costs more than its loads.
-        let base = self.base;
         vary.shift_v(self.v_shift);
         let (mut rejected, mut cut) = (0, 0);
         for (k, (px, mut cell)) in colors.iter_mut().zip(cells).enumerate() {
@@ -261,9 +261,13 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         Self: SpanSink<V>,
     {
         let dz = rows.dz;
+        // Copied once a triangle: a local that no store of the loop can reach, which it need not
+        // reload after each (the lighting's two constants stay behind their reference: one `ldrd`
+        // a pixel, where copies are two loads).
+        let base = *self.base;
         while let Some(row) = rows.next_row() {
             match row {
-                WalkedRow::Run(y, x, len, z, v, dv) => self.run((x, y, len), (z, dz), Stepped(v, dv)),
+                WalkedRow::Run(y, x, len, z, v, dv) => self.run(&base, (x, y, len), (z, dz), Stepped(v, dv)),
                 WalkedRow::Cut(y, dy, lo, hi) => rows.cut_row(self, (y, dy, lo, hi)),
                 WalkedRow::Empty => {}
             }
@@ -290,9 +294,11 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
             return false;
         };
         let dz = rows.dz();
+        // See `draw_rows`.
+        let base = *self.base;
         while let Some(row) = rows.next_row() {
             if let Some((at, z, run)) = row {
-                self.run(at, (z, dz), run);
+                self.run(&base, at, (z, dz), run);
             }
         }
         true
