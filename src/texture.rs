@@ -134,16 +134,12 @@ impl<'a> Sampler<'a> {
 }
 
 /// The common texture of small targets, sampled with the fewest operations: RGB565, both
-/// sizes powers of two, repeat on both axes, nearest, its texels at an even address (read as
-/// `u16`: one load where a byte-aligned texel is two on cores without unaligned loads, such
-/// as Cortex-M0+ and RISC-V; the converter writes texels at a multiple of 4 in the file, and
-/// [`include_model!`](crate::include_model) places a file at a multiple of 4). Samples exactly
-/// what [`Sampler`] does for such a texture.
+/// sizes powers of two, repeat on both axes, nearest. Samples exactly what [`Sampler`] does
+/// for such a texture.
 #[derive(Clone, Copy, Debug)]
 pub struct Repeat565<'a> {
-    /// Exactly `width · height` texels (as stored: little-endian), a power of two of at most
-    /// 2^16.
-    texels: &'a [u16],
+    /// Exactly `width · height` texels, a power of two of at most 2^16.
+    texels: &'a [[u8; 2]],
     /// `width - 1`: the column bits of a texel index.
     u_mask: u32,
     /// `(height - 1) · width`: the row bits of a texel index.
@@ -153,13 +149,11 @@ pub struct Repeat565<'a> {
 }
 
 impl<'a> Repeat565<'a> {
-    /// The fast form of `sampler`, when its texture and modes allow one and its texels are at
-    /// an even address.
+    /// The fast form of `sampler`, when its texture and modes allow one.
     #[must_use]
     pub fn new(sampler: &Sampler<'a>) -> Option<Self> {
         let t = &sampler.texture;
-        // Refused at an odd address (or for an odd length).
-        let texels: &[u16] = bytemuck::try_cast_slice(t.texels).ok()?;
+        let texels = t.texels.as_chunks::<2>().0;
         // Width and height are powers of two (both masks are set) and at least 1, so is their
         // product, the length: `texels_and_index` relies on it, and on the length being at
         // most 2^16 (see `scale_v`).
@@ -206,7 +200,7 @@ impl<'a> Repeat565<'a> {
     #[must_use]
     pub fn texel(&self, u: i32, v: i32) -> u16 {
         let (texels, i) = self.texels_and_index(u, self.scale_v(v));
-        texels.get(i).map_or(0, |&t| u16::from_le(t))
+        texels.get(i).map_or(0, |b| u16::from_le_bytes(*b))
     }
 
     /// The texels, and the index in them of the texel at `(u, scaled_v)` (16.16, `v` scaled by
@@ -214,7 +208,7 @@ impl<'a> Repeat565<'a> {
     /// power of two of at least 1 (width and height are powers of two), as the index has only
     /// bits of `u_mask | v_mask = length - 1`.
     #[inline(always)]
-    pub(crate) fn texels_and_index(&self, u: i32, scaled_v: i32) -> (&'a [u16], usize) {
+    pub(crate) fn texels_and_index(&self, u: i32, scaled_v: i32) -> (&'a [[u8; 2]], usize) {
         let at = ((scaled_v >> 16) as u32 & self.v_mask) | ((u >> 16) as u32 & self.u_mask);
         (self.texels, at as usize)
     }

@@ -51,11 +51,6 @@ impl Out {
         self.0.resize(at + len, 0);
         at
     }
-    /// Zeros up to the next multiple of `to` (a power of two).
-    fn align(&mut self, to: usize) {
-        let len = self.0.len().next_multiple_of(to);
-        self.0.resize(len, 0);
-    }
     fn append(&mut self, bytes: &[u8]) -> u32 {
         let at = self.0.len();
         self.0.extend_from_slice(bytes);
@@ -475,9 +470,6 @@ fn emit_texture(out: &mut Out, at: usize, t: &scene::TextureData, opts: &EmitOpt
         .flat_map(|row| row.chunks_exact(4))
         .flat_map(|c| encode_texel(format, [c[0], c[1], c[2], c[3]]).into_iter().take(n))
         .collect();
-    // At a multiple of 4: in a file at such an address (`include_model!`), RGB565 texels are
-    // read as `u16` (see `texture::Repeat565`).
-    out.align(4);
     let o = out.append(&texels);
     out.put_u32(at + texture::DATA.start, o);
     Ok(())

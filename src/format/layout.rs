@@ -65,9 +65,7 @@
 //! **Texture** (12 bytes): 0..2 u16 width, 2..4 u16 height (both >= 1), 4 u8
 //! [`TextureFormat`], 5..8 reserved, 8..12 u32 offset of the texels: `height` rows of `width`
 //! texels, **row 0 is the bottom row of the image** (so texel `(i, j)` is at `j * width + i`
-//! with `j = floor(v * height)`). The converter writes the offset as a multiple of 4 (any is
-//! read): a file at such an address (`include_model!`) has its RGB565 texels at even
-//! addresses, which the span loop reads as `u16`.
+//! with `j = floor(v * height)`).
 //!
 //! **Instance** (52 bytes): 0..2 u16 mesh index, 2..4 reserved, 4..52 world matrix as in the mesh
 //! record. An instance draws that mesh's geometry a second time with its own world matrix.

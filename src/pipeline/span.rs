@@ -356,5 +356,5 @@ fn texel565(texture: &Repeat565<'_>, u: i32, v: i32) -> u16 {
         // powers of two), so `i < texels.len()`.
         unsafe { *texels.get_unchecked(i) }
     };
-    u16::from_le(texel)
+    u16::from_le_bytes(texel)
 }
