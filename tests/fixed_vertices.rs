@@ -1,7 +1,7 @@
 //! The fixed-point vertex path (`RenderOptions::fixed_vertices`, for FPU-less targets) against
 //! the f32 one: every vertex of every asset projects within 1/16 pixel of where f32 puts it,
 //! and rendered frames differ only in pixels whose centres lie that close to an edge.
-use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+use embedded_graphics_core::pixelcolor::{Rgb565, Rgb888, RgbColor};
 use soft3d::convert::{emit, EmitOptions};
 use soft3d::testing::math::{FixedTransform, Mat4, Vec3, Vec4};
 use soft3d::testing::reference;
@@ -182,5 +182,44 @@ fn reference_frame_with_fixed_vertices_matches_the_f32_frame() {
             // pixels when this was written.
             assert!(off * 1000 <= covered, "{off} untextured pixels differ by more than one step");
         }
+    }
+}
+
+/// The reference model one byte further on draws the same frame, bit for bit, with f32 and
+/// with fixed vertices: a model parses and draws at any address (`include_bytes!`
+/// gives alignment 1), and the span loop's RGB565 path (`Repeat565`, whose modulation is
+/// within a step of the sampler's, not equal) must not depend on it.
+#[test]
+fn a_model_one_byte_further_on_draws_the_same_frame() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/suzanne/monkey.babylon");
+    // As the firmware converts it: a 128x128 texture (within `Repeat565`'s 2^16 texels).
+    let opts = soft3d::convert::ConvertOptions {
+        uv_origin: soft3d::convert::UvOrigin::Top,
+        max_texture: Some(128),
+        ..Default::default()
+    };
+    let (scene, _) = soft3d::convert::read_babylon_file(path.as_ref(), &opts).unwrap();
+    let bytes = emit(&scene, &EmitOptions::default()).unwrap();
+    let mut shifted = vec![0u8; bytes.len() + 1];
+    shifted[1..].copy_from_slice(&bytes);
+    let (model, moved) = (Model::parse(&bytes).unwrap(), Model::parse(&shifted[1..]).unwrap());
+    // The texels at an even address in one and at an odd one in the other.
+    let address = |m: &Model<'_>| m.texture(0).unwrap().texels.as_ptr() as usize;
+    assert_ne!(address(&model) % 2, address(&moved) % 2);
+    let render = |model: &Model<'_>, fixed_vertices: bool| {
+        let mut color = vec![Rgb565::BLACK; W as usize * H as usize];
+        let mut depth = vec![0u16; W as usize * H as usize];
+        let mut band = Band::new(&mut color[..], &mut depth[..], W, H, 0).unwrap();
+        band.clear(Rgb565::BLACK);
+        let opts = RenderOptions { fixed_vertices, ..reference::options() };
+        soft3d::Renderer::new(&reference::camera(W, H), &reference::lights(), opts)
+            .draw(&mut band, model, reference::transform(), &mut soft3d::Scratch::none())
+            .unwrap();
+        color
+    };
+    for fixed_vertices in [false, true] {
+        let frame = render(&model, fixed_vertices);
+        assert!(frame.iter().filter(|&&c| c != Rgb565::BLACK).count() > 10_000);
+        assert!(frame == render(&moved, fixed_vertices), "fixed vertices {fixed_vertices}");
     }
 }
