@@ -2,6 +2,7 @@
 """Where a firmware's instructions go, by pipeline stage (the keys name src/pipeline/ files and functions).
 
 Usage: mcu-profile.py ELF1 PROF1 ELF2 PROF2 COVERED [WRITTEN RUNS DRAWN]
+       mcu-profile.py --by-function STAGE DEPTH ELF1 PROF1 ELF2 PROF2
   ELFn/PROFn: the firmware rendering n frames and its per-address instruction counts
   (benches/qemu-pcprof); COVERED: covered pixels per frame; WRITTEN, RUNS, DRAWN: the frame's
   pixels written, runs of pixels and triangles drawn (the firmware's JSON line), for the
@@ -10,9 +11,14 @@ Usage: mcu-profile.py ELF1 PROF1 ELF2 PROF2 COVERED [WRITTEN RUNS DRAWN]
 Prints a markdown table of instructions per frame (2 frames - 1 frame) per stage. Each
 executed address is attributed, through its inlining chain (llvm-addr2line), to the first
 stage below whose function appears in the chain.
+With --by-function: the instructions per frame of the stages whose name contains STAGE ("" for
+all), by the function at DEPTH of each address's inlining chain (0: the innermost, inlined
+one; -1: the outermost, the function the code lies in), largest first: where a stage's count
+goes.
 """
 import collections
 import json
+import re
 import subprocess
 import sys
 
@@ -34,20 +40,49 @@ STAGES = [
 ]
 
 
-def stages(elf, prof):
+OTHER = "other (start-up, firmware, soft-float helpers)"
+
+
+def chains(elf, prof):
+    """(inlining chain innermost first, stage, count) of every executed address."""
     rows = [line.split() for line in open(prof)]
     out = subprocess.run(["llvm-addr2line", "--output-style=JSON", "-f", "-i", "-C", "-e", elf],
                          input="\n".join("0x" + r[0] for r in rows) + "\n",
                          capture_output=True, text=True, check=True).stdout.strip().split("\n")
-    total = collections.Counter()
     for line, (_, count) in zip(out, rows):
-        names = " | ".join(f["FunctionName"] for f in json.loads(line)["Symbol"])
-        stage = next((s for s, keys in STAGES if any(k in names for k in keys)), "other (start-up, firmware, soft-float helpers)")
-        total[stage] += int(count)
+        frames = [f["FunctionName"] for f in json.loads(line)["Symbol"]]
+        names = " | ".join(frames)
+        stage = next((s for s, keys in STAGES if any(k in names for k in keys)), OTHER)
+        yield frames, stage, int(count)
+
+
+def stages(elf, prof):
+    total = collections.Counter()
+    for _, stage, count in chains(elf, prof):
+        total[stage] += count
+    return total
+
+
+def by_function(elf, prof, stage_part, depth):
+    """Counts of the stages named with `stage_part` by the function at `depth` of the chain
+    (without the symbol hash, so that two builds' names match)."""
+    total = collections.Counter()
+    for frames, stage, count in chains(elf, prof):
+        if stage_part in stage:
+            name = frames[max(0, min(depth if depth >= 0 else len(frames) + depth, len(frames) - 1))]
+            total[re.sub(r"::h[0-9a-f]{16}$", "", name)] += count
     return total
 
 
 def main():
+    if sys.argv[1] == "--by-function":
+        stage_part, depth, elf1, prof1, elf2, prof2 = sys.argv[2:8]
+        one, two = by_function(elf1, prof1, stage_part, int(depth)), by_function(elf2, prof2, stage_part, int(depth))
+        per_frame = {name: two[name] - one[name] for name in set(one) | set(two)}
+        for name, count in sorted(per_frame.items(), key=lambda item: -item[1]):
+            if count:
+                print(f"{count:9d}  {name}")
+        return
     elf1, prof1, elf2, prof2, covered = sys.argv[1:6]
     one, two = stages(elf1, prof1), stages(elf2, prof2)
     covered = int(covered)
@@ -57,7 +92,7 @@ def main():
     # Reported in pipeline order (the band clear after the front end, as before).
     names = [s for s, _ in STAGES if s != "band clear"]
     names.insert(names.index("memcpy"), "band clear")
-    for stage in names + ["other (start-up, firmware, soft-float helpers)"]:
+    for stage in names + [OTHER]:
         per_frame = two[stage] - one[stage]
         total += per_frame
         print(f"| {stage} | {per_frame} | {per_frame / covered:.1f} |")
