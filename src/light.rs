@@ -214,12 +214,15 @@ impl<const N: usize> FixedLights<N> {
     pub fn at(&self, n: [i16; 3]) -> [u16; 3] {
         let mut sum = self.ambient;
         for l in &self.lights {
-            // |n| <= 2^15 and |towards| <= 2^15 (unit vectors, by Cauchy-Schwarz): below 2^31.
+            // `|towards| <= 2^15` (a unit vector) and each of `n`'s components at most 2^15 (not
+            // checked to be a unit vector: `|n| <= 2^15·√3`): by Cauchy-Schwarz, `|dot|` is
+            // below 1.86e9 < 2^31, with the roundings' `2^16` added too.
             let dot = (0..3).fold(0i32, |acc, k| acc.wrapping_add(n[k] as i32 * l.towards[k]));
             // k in 2.14, rounded: n·L is dot / 2^30 (NORMAL_ONE is 2^15 - 1: 3e-5 relative).
             let k = if l.hemispheric { (1 << 13) + ((dot + (1 << 16)) >> 17) } else { (dot.max(0) + (1 << 15)) >> 16 };
             for (s, w) in sum.iter_mut().zip(l.weight) {
-                // |k| <= 2^14 and |w| <= 2^16: the product stays within 2^30; to 16.16.
+                // `|k| <= 28,378` (2^14 for a unit normal) and `|w| <= 2^16`: the product stays
+                // below 1.86e9 < 2^31; to 16.16.
                 *s += (k * w + (1 << 11)) >> 12;
             }
         }
@@ -269,8 +272,10 @@ impl<const N: usize> PixelLights<N> {
     /// length, 16.16) at world position `p` (16.16): `ambient + Σ max(0, N·L) · colour`.
     #[must_use]
     pub fn at(&self, n: [i32; 3], p: [i32; 3]) -> [i32; 3] {
+        // `|n|²` in u64: any i32 components (each square at most 2^62, their sum below 2^64),
+        // so no interpolated normal, however long, overflows it.
+        let n_len = isqrt(n.iter().map(|c| u64::from(c.unsigned_abs()).pow(2)).sum()) as i64;
         let n = n.map(i64::from);
-        let n_len = isqrt(dot(n, n) as u64) as i64;
         let mut sum = self.ambient;
         if n_len > 0 {
             for l in &self.lights {
@@ -327,6 +332,23 @@ pub fn isqrt(n: u64) -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Interpolated normals of any length (here the longest i32 components) light without an
+    /// overflow: `|n|²` passed i64 from components of about 2^30.7.
+    #[test]
+    fn pixel_lights_take_any_normal() {
+        let mut lights = Lights::<3>::new(Vec3::splat(0.1));
+        lights.push(Lights::<3>::directional(Vec3::new(0.5, -0.5, 1.0), 0.7)).unwrap();
+        lights.push(Lights::<3>::point(Vec3::new(2.0, 3.0, -4.0), 0.5)).unwrap();
+        let px = PixelLights::new(&lights);
+        for n in [[i32::MAX; 3], [i32::MIN; 3], [i32::MIN, i32::MAX, 0]] {
+            let light = px.at(n, [i32::MIN, 0, i32::MAX]);
+            assert!(light.iter().all(|c| (0..=1 << 16).contains(c)), "{n:?}: {light:?}");
+        }
+        // The same direction at an ordinary length lights alike.
+        let (long, short) = (px.at([0, 0, -(1 << 30)], [0; 3]), px.at([0, 0, -(1 << 16)], [0; 3]));
+        assert!(long.iter().zip(short).all(|(a, b)| (a - b).abs() <= 2), "{long:?} {short:?}");
+    }
 
     #[test]
     fn fixed_lights_are_within_an_eighth_of_a_step_of_the_f32_ones() {

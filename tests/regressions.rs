@@ -134,3 +134,15 @@ fn huge_wireframes_walk_only_the_band() {
     }
     assert!(walked > 0, "some lines are drawn");
 }
+
+/// Counts summed over many draws (65,535 instances of a large mesh count more than 2^32
+/// triangles) saturate instead of overflowing (debug: a panic) or wrapping to a small count.
+#[test]
+fn stats_saturate() {
+    let mut total = soft3d::Stats { triangles_submitted: u32::MAX - 1, pixels_written: 7, ..Default::default() };
+    let draw = soft3d::Stats { triangles_submitted: 65_537, pixels_written: 5, ..Default::default() };
+    total += draw;
+    assert_eq!((total.triangles_submitted, total.pixels_written), (u32::MAX, 12));
+    total += draw;
+    assert_eq!(total.triangles_submitted, u32::MAX);
+}

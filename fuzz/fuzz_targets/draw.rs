@@ -3,7 +3,9 @@
 //! entries, projective ones), every `RenderOptions` combination (modes, shadings, filters,
 //! dithering, sub-spans, fixed-point vertices, back-to-front order), lights (with specular),
 //! band heights from 1 to the frame, every pixel format and depth format, and scratch memory
-//! of any size. Never panics (built with debug assertions: overflow is a panic) and never
+//! of any size; frames up to 48 x 48 drawn whole, or up to the largest frame (1536 x 1536) of
+//! which one band of a few rows is drawn (where slivers' depth planes and the per-pixel
+//! perspective bound meet boxes a thousand pixels across). Never panics (built with debug assertions: overflow is a panic) and never
 //! hangs.
 //!
 //! The model is one of the seed scenes (`fuzz/seeds/parse`, chosen by the first byte) or, when
@@ -113,14 +115,15 @@ fn lights(u: &mut Unstructured<'_>, model: &Model<'_>) -> Result<Lights<4>> {
     Ok(lights)
 }
 
-/// Draws the frame in bands of `rows` into colour format `C`, with depth kind `depth` (u16,
-/// f32 or none), and scratch memory of full, half or no size.
+/// Draws the frame in bands of `rows` (or only the band from row `only`) into colour format
+/// `C`, with depth kind `depth` (u16, f32 or none), and scratch memory of full, half or no
+/// size.
 fn draw_frame<C: FrameColor + Default>(
     u: &mut Unstructured<'_>,
     renderer: &Renderer<'_, 4>,
     model: &Model<'_>,
     transform: Mat4,
-    (width, height, rows): (u16, u16, u16),
+    (width, height, rows, only): (u16, u16, u16, Option<u16>),
     depth: u8,
 ) -> Result<()> {
     let (triangles, vertices) = model.draw_counts();
@@ -138,7 +141,11 @@ fn draw_frame<C: FrameColor + Default>(
     let n = width as usize * rows as usize;
     let mut color = vec![C::default(); n];
     let (mut z16, mut zf) = (vec![0u16; n], vec![0f32; n]);
-    for first_row in (0..height).step_by(rows as usize) {
+    let firsts = match only {
+        Some(first) => first..first + 1,
+        None => 0..height,
+    };
+    for first_row in firsts.step_by(rows as usize) {
         let take = (rows.min(height - first_row)) as usize * width as usize;
         let color = &mut color[..take];
         let at = (width, height, first_row);
@@ -185,13 +192,20 @@ fn run(data: &[u8]) -> Result<()> {
             }
         }
     };
-    let (width, height) = (u.int_in_range(1..=48)?, u.int_in_range(1..=48)?);
-    let rows = u.int_in_range(1..=height)?;
+    // Mostly small frames drawn whole; sometimes one band of a few rows of a large frame.
+    let (width, height, rows, only) = if u.ratio(1, 4)? {
+        let (width, height) = (u.int_in_range(1..=1536)?, u.int_in_range(1..=1536)?);
+        let rows = u.int_in_range(1..=height.min(8))?;
+        (width, height, rows, Some(u.int_in_range(0..=height - rows)?))
+    } else {
+        let (width, height) = (u.int_in_range(1..=48)?, u.int_in_range(1..=48)?);
+        (width, height, u.int_in_range(1..=height)?, None)
+    };
     let Some(camera) = camera(&mut u, width as f32 / height as f32)? else { return Ok(()) };
     let transform = transform(&mut u)?;
     let lights = lights(&mut u, &model)?;
     let renderer = Renderer::new(&camera, &lights, options(&mut u)?);
-    let size = (width, height, rows);
+    let size = (width, height, rows, only);
     let depth = u.int_in_range(0..=2)?;
     match u.int_in_range(0..=4)? {
         0 => draw_frame::<Rgb565>(&mut u, &renderer, &model, transform, size, depth),

@@ -117,24 +117,25 @@ impl<'a> Mesh<'a> {
         let nv = self.vertex_count() as usize;
         let ni = self.u32_field(mesh::INDEX_COUNT) as usize;
         let d = self.data;
-        // `parse` checked every section's range; an impossible one reads as empty (zeros).
-        let slice = |field: Range<usize>, len: usize| {
+        // `parse` checked every section's range (and that its length fits usize); an impossible
+        // one reads as empty (zeros).
+        let slice = |field: Range<usize>, (count, record_len): (usize, usize)| {
             let at = self.u32_field(field) as usize;
-            d.get(at..at.saturating_add(len)).unwrap_or(&[])
+            d.get(at..at.saturating_add(count.saturating_mul(record_len))).unwrap_or(&[])
         };
         Arrays {
             positions: if self.has_f32_positions() {
-                Positions::F32(slice(mesh::POSITIONS, nv * 12).as_chunks().0)
+                Positions::F32(slice(mesh::POSITIONS, (nv, 12)).as_chunks().0)
             } else {
-                Positions::Quantized(slice(mesh::POSITIONS, nv * POSITION_LEN).as_chunks().0)
+                Positions::Quantized(slice(mesh::POSITIONS, (nv, POSITION_LEN)).as_chunks().0)
             },
-            normals: slice(mesh::NORMALS, nv * NORMAL_LEN).as_chunks().0,
-            uvs: self.has_uvs().then(|| slice(mesh::UVS, nv * UV_LEN).as_chunks().0),
-            colors: self.has_colors().then(|| slice(mesh::COLORS, nv * COLOR_LEN).as_chunks().0),
+            normals: slice(mesh::NORMALS, (nv, NORMAL_LEN)).as_chunks().0,
+            uvs: self.has_uvs().then(|| slice(mesh::UVS, (nv, UV_LEN)).as_chunks().0),
+            colors: self.has_colors().then(|| slice(mesh::COLORS, (nv, COLOR_LEN)).as_chunks().0),
             indices: if self.has_u32_indices() {
-                Indices::U32(slice(mesh::INDICES, ni * 4).as_chunks().0)
+                Indices::U32(slice(mesh::INDICES, (ni, 4)).as_chunks().0)
             } else {
-                Indices::U16(slice(mesh::INDICES, ni * 2).as_chunks().0)
+                Indices::U16(slice(mesh::INDICES, (ni, 2)).as_chunks().0)
             },
         }
     }

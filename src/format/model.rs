@@ -22,6 +22,20 @@ fn section(start: u32, len: usize, file_len: usize, part: Part, at: usize) -> Re
     }
 }
 
+/// The range of `count` records of `record_len` bytes from `start` (see [`section`]), the product
+/// checked: on a 32-bit target a count from the file times a record's length can pass
+/// `usize::MAX`, and a wrapped length would validate a section the data does not hold.
+fn records(
+    start: u32,
+    (count, record_len): (usize, usize),
+    file_len: usize,
+    part: Part,
+    at: usize,
+) -> Result<Range<usize>, ParseError> {
+    let len = count.checked_mul(record_len).ok_or(ParseError::OutOfBounds { part, offset: at })?;
+    section(start, len, file_len, part, at)
+}
+
 /// Checks that every f32 in `range` is finite.
 fn check_finite(data: &[u8], range: Range<usize>, part: Part) -> Result<(), ParseError> {
     for at in range.step_by(4) {
@@ -90,7 +104,7 @@ impl<'a> Model<'a> {
     ) -> Result<Range<usize>, ParseError> {
         let n = self.count(count) as usize;
         let start = u32_at(self.data, field.start);
-        section(start, n * record_len, self.data.len(), part, field.start)
+        records(start, (n, record_len), self.data.len(), part, field.start)
     }
 
     fn validate(&self) -> Result<(), ParseError> {
@@ -120,8 +134,9 @@ impl<'a> Model<'a> {
             if w == 0 || h == 0 {
                 return Err(invalid(Part::Texture, at));
             }
-            let len = w as usize * h as usize * format.bytes_per_texel();
-            section(u32_at(d, at + texture::DATA.start), len, d.len(), Part::Texture, at + texture::DATA.start)?;
+            // `w·h` below 2^32: fits usize on every target.
+            let texels = (w as usize * h as usize, format.bytes_per_texel());
+            records(u32_at(d, at + texture::DATA.start), texels, d.len(), Part::Texture, at + texture::DATA.start)?;
         }
         let instances = self.table(header::INSTANCES, header::INSTANCE_COUNT, instance::LEN, Part::Instance)?;
         for at in instances.step_by(instance::LEN) {
@@ -166,19 +181,19 @@ impl<'a> Model<'a> {
         let field = |f: Range<usize>| (u32_at(d, at + f.start), at + f.start);
         let (o, r) = field(mesh::POSITIONS);
         if flags & mesh::FLAG_F32_POSITIONS != 0 {
-            check_finite(d, section(o, nv * 12, d.len(), Part::Positions, r)?, Part::Positions)?;
+            check_finite(d, records(o, (nv, 12), d.len(), Part::Positions, r)?, Part::Positions)?;
         } else {
-            section(o, nv * POSITION_LEN, d.len(), Part::Positions, r)?;
+            records(o, (nv, POSITION_LEN), d.len(), Part::Positions, r)?;
         }
         let (o, r) = field(mesh::NORMALS);
-        section(o, nv * NORMAL_LEN, d.len(), Part::Normals, r)?;
+        records(o, (nv, NORMAL_LEN), d.len(), Part::Normals, r)?;
         if flags & mesh::FLAG_UVS != 0 {
             let (o, r) = field(mesh::UVS);
-            section(o, nv * UV_LEN, d.len(), Part::Uvs, r)?;
+            records(o, (nv, UV_LEN), d.len(), Part::Uvs, r)?;
         }
         if flags & mesh::FLAG_COLORS != 0 {
             let (o, r) = field(mesh::COLORS);
-            section(o, nv * COLOR_LEN, d.len(), Part::Colors, r)?;
+            records(o, (nv, COLOR_LEN), d.len(), Part::Colors, r)?;
         }
         let (o, r) = field(mesh::NAME);
         let name = section(o, u16_at(d, at + mesh::NAME_LEN.start) as usize, d.len(), Part::Name, r)?;
@@ -187,7 +202,7 @@ impl<'a> Model<'a> {
         }
         let index_len = if flags & mesh::FLAG_U32_INDICES != 0 { 4 } else { 2 };
         let (o, r) = field(mesh::INDICES);
-        let index_range = section(o, indices as usize * index_len, d.len(), Part::Indices, r)?;
+        let index_range = records(o, (indices as usize, index_len), d.len(), Part::Indices, r)?;
         for i_at in index_range.step_by(index_len) {
             let index = if index_len == 4 { u32_at(d, i_at) } else { u16_at(d, i_at) as u32 };
             if index >= vertices {
@@ -297,7 +312,10 @@ impl<'a> Model<'a> {
     /// the entries a [`Scratch`](crate::Scratch) needs.
     #[must_use]
     pub fn draw_counts(&self) -> (usize, usize) {
-        self.draws().fold((0, 0), |(t, v), (m, _)| (t + m.triangle_count() as usize, v + m.vertex_count() as usize))
+        // Saturating: instances can pass `usize::MAX` on a 32-bit target (no scratch holds that).
+        self.draws().fold((0usize, 0usize), |(t, v), (m, _)| {
+            (t.saturating_add(m.triangle_count() as usize), v.saturating_add(m.vertex_count() as usize))
+        })
     }
 
     /// Everything to draw: each mesh with its own world matrix, then each instance.
@@ -412,4 +430,21 @@ pub struct SceneCamera {
     pub near: f32,
     /// Far plane distance.
     pub far: f32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A section of records whose length passes `usize::MAX` (a count from a file on a 32-bit
+    /// target: `0x2AAA_AAAB` vertices of 12 bytes wrap to 4) is out of bounds, not a short
+    /// range and not an overflow.
+    #[test]
+    fn records_whose_length_overflows_are_out_of_bounds() {
+        let huge = usize::MAX / 6 + 1;
+        let r = records(0, (huge, 12), 100, Part::Positions, 8);
+        assert_eq!(r, Err(ParseError::OutOfBounds { part: Part::Positions, offset: 8 }));
+        assert_eq!(records(4, (3, 12), 40, Part::Positions, 8), Ok(4..40));
+        assert!(records(4, (3, 12), 39, Part::Positions, 8).is_err());
+    }
 }

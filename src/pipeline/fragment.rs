@@ -309,9 +309,10 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
         ),
         None => draw(shader!(AnyCells(&mut band.depth)), &mut setup, z_of(tri), subspan, &tolerance, fpu),
     };
-    stats.pixels_written += shader.0;
-    stats.depth_rejected += shader.1;
-    stats.runs += shader.2;
+    // Saturating: a draw of many large triangles can write more than 2^32 pixels.
+    stats.pixels_written = stats.pixels_written.saturating_add(shader.0);
+    stats.depth_rejected = stats.depth_rejected.saturating_add(shader.1);
+    stats.runs = stats.runs.saturating_add(shader.2);
     Ok(())
 }
 

@@ -12,13 +12,13 @@ fn put<C: FrameColor, D: DepthBuffer>(band: &mut Band<'_, C, D>, x: i32, y: i32,
         return;
     };
     if !band.depth.passes(i, z) {
-        stats.depth_rejected += 1;
+        stats.depth_rejected = stats.depth_rejected.saturating_add(1);
         return;
     }
     if let Some(px) = band.color.get_mut(i) {
         *px = c;
         band.depth.store(i, z);
-        stats.pixels_written += 1;
+        stats.pixels_written = stats.pixels_written.saturating_add(1);
     }
 }
 
@@ -56,7 +56,7 @@ pub(crate) fn line<C: FrameColor, D: DepthBuffer>(
         let z = a.z + (b.z - a.z) * (k as f32 / steps);
         // Inside the band by construction: both fit in i32.
         put(band, x as i32, y as i32, depth30_from_unit(z), c, stats);
-        stats.line_steps += 1;
+        stats.line_steps = stats.line_steps.saturating_add(1);
     }
 }
 

@@ -123,7 +123,8 @@ impl Default for RenderOptions {
     }
 }
 
-/// What happened during a frame (or band), summed over all draws.
+/// What happened during a frame (or band), summed over all draws. Every count saturates at
+/// `u32::MAX` (many instances of large meshes can pass it).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Stats {
     /// Triangles handed to the pipeline.
@@ -167,20 +168,33 @@ impl Stats {
     }
 }
 
+/// Saturating: a frame of many instances can count more than 2^32 of something.
 impl core::ops::AddAssign for Stats {
     fn add_assign(&mut self, o: Stats) {
-        self.triangles_submitted += o.triangles_submitted;
-        self.culled_frustum_mesh += o.culled_frustum_mesh;
-        self.culled_frustum += o.culled_frustum;
-        self.culled_back_face += o.culled_back_face;
-        self.culled_degenerate += o.culled_degenerate;
-        self.clipped += o.clipped;
-        self.drawn += o.drawn;
-        self.pixels_written += o.pixels_written;
-        self.runs += o.runs;
-        self.line_steps += o.line_steps;
-        self.depth_rejected += o.depth_rejected;
-        self.outside_band += o.outside_band;
+        let mut o = o;
+        for (count, add) in self.counts().into_iter().zip(o.counts()) {
+            *count = count.saturating_add(*add);
+        }
+    }
+}
+
+impl Stats {
+    /// Every count, in the order of the fields.
+    fn counts(&mut self) -> [&mut u32; 12] {
+        [
+            &mut self.triangles_submitted,
+            &mut self.culled_frustum_mesh,
+            &mut self.culled_frustum,
+            &mut self.culled_back_face,
+            &mut self.culled_degenerate,
+            &mut self.clipped,
+            &mut self.drawn,
+            &mut self.pixels_written,
+            &mut self.runs,
+            &mut self.line_steps,
+            &mut self.depth_rejected,
+            &mut self.outside_band,
+        ]
     }
 }
 
@@ -601,14 +615,16 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
     for (d, (mesh, world)) in model.draws().enumerate() {
         let (nt, nv) = (mesh.triangle_count() as usize, mesh.vertex_count() as usize);
         let unclipped = scratch.unclipped(d);
-        let caches = scratch.for_draw(triangles..triangles + nt, vertices..vertices + nv);
+        let caches = scratch.for_draw(triangles..triangles.saturating_add(nt), vertices..vertices.saturating_add(nv));
         let (s, filled_unclipped) = draw_mesh_with(band, ctx, model, &mesh, transform * world, (caches, unclipped));
         stats += s;
         if filled_unclipped {
             scratch.set_unclipped(d);
         }
-        triangles += nt;
-        vertices += nv;
+        // Saturating (instances can pass `usize::MAX` on a 32-bit target): a range beyond the
+        // scratch draws without it.
+        triangles = triangles.saturating_add(nt);
+        vertices = vertices.saturating_add(nv);
     }
     stats
 }

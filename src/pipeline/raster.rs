@@ -37,8 +37,8 @@
 //! decide what a pixel looks like (`fragment` and `span` do) or clip (`clip` does).
 
 use super::varyings::ScreenVaryings;
-use crate::fixed::{depth40_to_30, Depth30, Depth40, FDot16, FDot4, DEPTH30_FAR, DEPTH40_ONE};
-use crate::math::{max, min, times_16, times_power_of_two, wrapping_mul_small, F32};
+use crate::fixed::{depth40_to_30, Depth30, Depth40, FDot16, FDot4, DEPTH30_FAR};
+use crate::math::{max, min, times_power_of_two, wrapping_mul_small, F32};
 
 mod affine;
 #[cfg(any(no_hw_divide, test))]
@@ -47,6 +47,8 @@ mod facing;
 mod perspective;
 mod pixel;
 mod rows;
+#[cfg(test)]
+mod slivers;
 mod walk;
 use affine::AffinePlanes;
 pub(crate) use facing::{area_in_guard_band, facing_in_guard_band, facing_of, in_guard_band};
@@ -122,7 +124,9 @@ struct Edge {
 }
 
 impl Edge {
-    /// The edge from `p` to `q`, with its origin at the pixel-centre `(ox, oy)` (28.4).
+    /// The edge from `p` to `q`, with its origin at the pixel-centre `(ox, oy)` (28.4). The
+    /// origin lies in the triangle's bounding box, so `|ox - p.x|` and `|oy - p.y|` are below
+    /// `MAX_EXTENT` as `a` and `b` are, and `c` below `2·MAX_EXTENT²` < 2^31 (see `facing`).
     fn new<const V: usize>(p: &Corner<V>, q: &Corner<V>, ox: i32, oy: i32) -> Edge {
         let a = p.y - q.y;
         let b = q.x - p.x;
@@ -293,23 +297,9 @@ impl<const V: usize> Setup<V> {
         let edges = [Edge::new(b, c, ox, oy), Edge::new(c, a, ox, oy), Edge::new(a, b, ox, oy)];
 
         // Depth plane from the three vertices: in f32 with f32 perspective (an FPU's few
-        // instructions; `F32`: deterministic on every target), else in integers (no
-        // soft-float without an FPU; see `affine::integer_depth_plane`).
-        let (z_origin, z_dx, z_dy) = if fpu {
-            let (az, bz, cz) = (F32(a.z), F32(b.z), F32(c.z));
-            let (dz1, dz2) = (bz - az, cz - az);
-            let (ex1, ey1, ex2, ey2) =
-                (F32::from(b.x - a.x), F32::from(b.y - a.y), F32::from(c.x - a.x), F32::from(c.y - a.y));
-            let af = F32::from(area.unsigned_abs());
-            let gx = (dz1 * ey2 - dz2 * ey1) / af; // per 1/16 pixel
-            let gy = (dz2 * ex1 - dz1 * ex2) / af;
-            let z_at_origin = az + gx * F32::from(ox - a.x) + gy * F32::from(oy - a.y);
-            // Powers of two: exact, and no soft-float multiply without an FPU.
-            let to_fixed = |v: F32| crate::math::f32_to_i64(times_power_of_two(v.0, DEPTH40_ONE));
-            (to_fixed(z_at_origin), to_fixed(F32(times_16(gx.0))), to_fixed(F32(times_16(gy.0))))
-        } else {
-            affine::integer_depth_plane([a, b, c].map(|v| (v.x, v.y, v.z)), area.unsigned_abs(), (ox, oy))
-        };
+        // instructions; `F32`: deterministic on every target) where that is accurate, else in
+        // integers (no soft-float without an FPU; see `affine::integer_depth_plane`).
+        let (z_origin, z_dx, z_dy) = affine::depth_plane([a, b, c].map(|v| (v.x, v.y, v.z)), area, (ox, oy), fpu);
 
         // Divided by the largest, positive and finite (`facing`): that one becomes exactly 1,
         // the others at most that: in f32 where f32 works perspective out, else in `Q_BITS`

@@ -18,7 +18,8 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
     scratch: &mut Scratch<'_>,
 ) -> Result<Stats, DrawError> {
     let scratch = scratch.sort_entries();
-    let needed: usize = model.draws().map(|(m, _)| m.triangle_count() as usize).sum();
+    // Saturating: instances can pass `usize::MAX` on a 32-bit target, which no scratch holds.
+    let needed = model.draws().fold(0usize, |n, (m, _)| n.saturating_add(m.triangle_count() as usize));
     if scratch.len() < needed || model.draws().count() > u16::MAX as usize {
         return Err(DrawError::ScratchTooSmall { needed, given: scratch.len() });
     }
@@ -47,7 +48,7 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
                 .map(|(mesh, world)| (e.draw, DrawSetup::new(ctx, mesh, transform * world)));
         }
         let Some((_, setup)) = &current else { continue };
-        stats.triangles_submitted += 1;
+        stats.triangles_submitted = stats.triangles_submitted.saturating_add(1);
         let sub = setup
             .mesh
             .submeshes()

@@ -6,8 +6,9 @@
 
 use super::perspective::{leading_zeros, mul_i32, mul_u32, reciprocal};
 use super::Edge;
+use crate::fixed::DEPTH40_ONE;
 use crate::fixed::{fdot8_floor, fdot8_round, FDot16, FDot8};
-use crate::math::{mul_wide, times_power_of_two, to_i32, wrapping_mul_small, F32};
+use crate::math::{mul_wide, times_16, times_power_of_two, to_i32, wrapping_mul_small, F32};
 
 /// Affine varyings: `v(x, y) = base + (origin + gx·x + gy·y) / 256` in pixels from the origin
 /// pixel centre, in integers (24.8 varying units: rounding adds under 2^-8 units per pixel of
@@ -79,7 +80,8 @@ impl<const V: usize> AffinePlanes<V> {
             let (d1, d2) = (d1[k], d2[k]);
             // `a` and `b` are per 1/16 pixel and the terms in 24.8 units: per pixel, times 2^12;
             // `c` is the origin's value, times 2^8. Each sum is exact: the products are below
-            // 2^46 (`|a|, |b| < 2^15`) and 2^62 (`|c| < 2^31`).
+            // 2^46 (`|a|, |b| < 2^15`) and 2^62 (`|c| <= 2·30,735² + 1 < 2^31`), the sum of two
+            // below 8.1e18 < 2^63.
             let o = inverse.times(mul_i32(d1, e1.c) + mul_i32(d2, e2.c), 8)?;
             let gx = inverse.times(mul_wide(d1, e1.a) + mul_wide(d2, e2.a), 12)?;
             let gy = inverse.times(mul_wide(d1, e1.b) + mul_wide(d2, e2.b), 12)?;
@@ -139,8 +141,58 @@ pub(super) fn integer_depth_plane(v: [(i32, i32, f32); 3], area: u32, (ox, oy): 
     // Per 1/16 pixel in units of 2^-30: per pixel in 2^-40, times 2^14.
     let (z_dx, z_dy) = (inverse.quotient(gx, 14), inverse.quotient(gy, 14));
     // Vertex 0 to the origin, in 1/16 pixels: floor of the sum over 16.
-    let along = wrapping_mul_small(z_dx, ox - ax).wrapping_add(wrapping_mul_small(z_dy, oy - ay));
-    ((i64::from(z[0]) << 10).wrapping_add(along >> 4), z_dx, z_dy)
+    ((i64::from(z[0]) << 10).wrapping_add(floor_sixteenth((z_dx, ox - ax), (z_dy, oy - ay))), z_dx, z_dy)
+}
+
+/// `floor((z_1·d_1 + z_2·d_2) / 16)` modulo 2^64 (offsets `|d| < 2^15`, from the guard band):
+/// exact, so that a steep plane's origin, far from a needle triangle, is still congruent to its
+/// value there and the wrapping sums at the triangle's pixels give their exact depths (a
+/// wrapped product shifted by 4 would keep it only modulo 2^60). In 64 bits where the products
+/// are below 2^61 (gradients below 2^46: every triangle but needles), else in 128.
+#[inline(always)]
+fn floor_sixteenth((z1, d1): (i64, i32), (z2, d2): (i64, i32)) -> i64 {
+    debug_assert!(d1.unsigned_abs() < 1 << 15 && d2.unsigned_abs() < 1 << 15);
+    if (z1.unsigned_abs() | z2.unsigned_abs()) < 1 << 46 {
+        (wrapping_mul_small(z1, d1) + wrapping_mul_small(z2, d2)) >> 4
+    } else {
+        ((i128::from(z1) * i128::from(d1) + i128::from(z2) * i128::from(d2)) >> 4) as i64
+    }
+}
+
+/// The depth plane of [`integer_depth_plane`] for a triangle of twice the (signed, non-zero)
+/// area `area`: with `fpu`, in f32 (24.40 from the f32 values, truncated) where that is
+/// accurate, within about 2^-21 of the exact plane at every pixel of the box; in integers for
+/// the ill-conditioned rest (slivers, whose gradient's two products nearly cancel: off by up
+/// to twice itself in f32) and without `fpu`.
+///
+/// Each product `p` is within `ε·|p|` (`ε = 2^-24`), the differences of depths too, and the
+/// numerator's difference within `ε` of both products' magnitudes: a gradient is within
+/// `4ε·(|p_1| + |p_2|) / area`. At a pixel of the box, no further than `|e_1| + |e_2|` (the
+/// edges from vertex 0) from vertex 0 each way, the plane is then within `4ε·S / area` of the
+/// exact one, with `S = (|p_1| + |p_2|)·(|ex_1| + |ex_2|) + (|p_3| + |p_4|)·(|ey_1| + |ey_2|)`,
+/// plus about `2ε` for the sum at the origin: `S <= area` keeps it within `2^-22 + 2^-23`.
+/// NaN and infinite depths fail it too. The gradients are then at most one depth unit per
+/// 1/16 pixel (the edge lengths are at least one unit): nothing saturates in 24.40.
+#[inline(always)]
+pub(super) fn depth_plane(v: [(i32, i32, f32); 3], area: i32, (ox, oy): (i32, i32), fpu: bool) -> (i64, i64, i64) {
+    if fpu {
+        let [(ax, ay, az), (bx, by, bz), (cx, cy, cz)] = v.map(|(x, y, z)| (x, y, F32(z)));
+        let (dz1, dz2) = (bz - az, cz - az);
+        let (ex1, ey1, ex2, ey2) = (F32::from(bx - ax), F32::from(by - ay), F32::from(cx - ax), F32::from(cy - ay));
+        let af = F32::from(area.unsigned_abs());
+        let (p1, p2, p3, p4) = (dz1 * ey2, dz2 * ey1, dz2 * ex1, dz1 * ex2);
+        let sum = (p1.abs() + p2.abs()) * (ex1.abs() + ex2.abs()) + (p3.abs() + p4.abs()) * (ey1.abs() + ey2.abs());
+        // Written so that NaN fails it.
+        if sum <= af {
+            let gx = (p1 - p2) / af; // per 1/16 pixel
+            let gy = (p3 - p4) / af;
+            let z_at_origin = az + gx * F32::from(ox - ax) + gy * F32::from(oy - ay);
+            // Powers of two: exact, and no soft-float multiply without an FPU.
+            let to_fixed = |v: F32| crate::math::f32_to_i64(times_power_of_two(v.0, DEPTH40_ONE));
+            return (to_fixed(z_at_origin), to_fixed(F32(times_16(gx.0))), to_fixed(F32(times_16(gy.0))));
+        }
+    }
+    integer_depth_plane(v, area.unsigned_abs(), (ox, oy))
 }
 
 /// `1 / area` for [`AffinePlanes::in_integers`]: `area = m / 2^s` with `m` in `2^31..2^32`,

@@ -154,10 +154,13 @@ impl<const V: usize> Setup<V> {
         // triangle that covers a pixel centre; the wrapping sum is exact (C fits i32).
         let c = self.edges.iter().fold(0i32, |sum, e| sum.wrapping_add(e.c));
         let c = u32::try_from(c).ok().filter(|&c| c > 0)?;
-        // Each term below 2^31 (see the module's numbers), their sum below 2^32.
+        // Per edge, `|c|` and the rest each below 2^31 (see the module's numbers), their sum
+        // below 2^32.
         let largest =
             |e: &super::Edge| e.c.unsigned_abs() + 16 * (e.a.unsigned_abs() * width + e.b.unsigned_abs() * height);
-        let rho = self.edges.iter().map(|e| largest(e) / c + 1).sum::<u32>();
+        // Checked: with `C` as small as 1 (a sliver in a large frame) the sum can pass 2^32,
+        // and such a triangle gains nothing here anyway.
+        let rho = self.edges.iter().try_fold(0u32, |sum, e| sum.checked_add(largest(e) / c + 1))?;
         let k = rho.checked_mul(24)?.checked_add(16 + 4 * width)?;
         Some(self.q_min / k)
     }

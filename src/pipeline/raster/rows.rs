@@ -49,8 +49,10 @@ impl<const V: usize> Setup<V> {
 
     /// The walk of this triangle's rows when its vertices' depths `z` all lie within
     /// `2^-10 ..= 1 - 2^-10`: then every covered pixel's depth does too, and a run's stepped
-    /// depth is off it by far less than that margin (the plane's f32 set-up by about 2^-21,
-    /// each step by under 2^-30), so no check over the box is needed (nor
+    /// depth is off it by far less than that margin (the plane's f32 set-up by at most about
+    /// 2^-21, which `affine::f32_depth_plane` checks, falling back to the integer plane; that
+    /// one by under 2^-26 where its gradients fit i32; each step by under 2^-30), so no check
+    /// over the box is needed (nor
     /// [`Setup::safe_depth_step`]'s four products).
     #[inline(always)]
     pub(super) fn row_cursor_inside(&self, z: [f32; 3]) -> Option<RowCursor> {
@@ -100,8 +102,10 @@ impl<const V: usize> Setup<V> {
     /// corners, so when every corner lies in `(width + 1)·2^10 ..= 2^40` (the box `width + 1`
     /// columns wide), every run starts and ends within 0..=2^30.
     fn safe_depth_step(&self, z_dx: i32, z_dy: i32) -> Option<i32> {
-        // With the origin below 2^48 and the box within the frame (at most `MAX_DIMENSION` <
-        // 2^11 pixels each way), the sums below stay within 2^49: no checks needed. A plane
+        // With the origin below 2^48 and the box under 2^11 pixels each way (its columns within
+        // the frame, at most `MAX_DIMENSION`; its rows below the origin within the triangle's
+        // height, at most `MAX_EXTENT / 16 + 1` = 1922), the sums below stay within 2^49: no
+        // checks needed. A plane
         // beyond that (a needle triangle's) takes the checked path.
         if self.z_origin.unsigned_abs() >= 1 << 48 {
             return None;
