@@ -337,10 +337,7 @@ mod tests {
     /// overflow: `|n|²` passed i64 from components of about 2^30.7.
     #[test]
     fn pixel_lights_take_any_normal() {
-        let mut lights = Lights::<3>::new(Vec3::splat(0.1));
-        lights.push(Lights::<3>::directional(Vec3::new(0.5, -0.5, 1.0), 0.7)).unwrap();
-        lights.push(Lights::<3>::point(Vec3::new(2.0, 3.0, -4.0), 0.5)).unwrap();
-        let px = PixelLights::new(&lights);
+        let px = PixelLights::new(&two_lights());
         for n in [[i32::MAX; 3], [i32::MIN; 3], [i32::MIN, i32::MAX, 0]] {
             let light = px.at(n, [i32::MIN, 0, i32::MAX]);
             assert!(light.iter().all(|c| (0..=1 << 16).contains(c)), "{n:?}: {light:?}");
@@ -414,11 +411,17 @@ mod tests {
         }
     }
 
-    #[test]
-    fn pixel_lights_match_float_lights() {
+    /// A directional and a point light over a little ambient.
+    fn two_lights() -> Lights<2> {
         let mut lights = Lights::<2>::new(Vec3::splat(0.1));
         lights.push(Lights::<2>::directional(Vec3::new(0.5, -0.5, 1.0), 0.7)).unwrap();
         lights.push(Lights::<2>::point(Vec3::new(2.0, 3.0, -4.0), 0.5)).unwrap();
+        lights
+    }
+
+    #[test]
+    fn pixel_lights_match_float_lights() {
+        let lights = two_lights();
         let px = PixelLights::new(&lights);
         for (n, p) in [(Vec3::new(0.0, 0.0, -1.0), Vec3::ZERO), (Vec3::new(0.3, 0.8, -0.5), Vec3::new(0.5, 0.2, 0.1))] {
             let n = normalize_or_zero(n);
