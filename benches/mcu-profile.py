@@ -3,6 +3,7 @@
 
 Usage: mcu-profile.py ELF1 PROF1 ELF2 PROF2 COVERED [WRITTEN RUNS DRAWN]
        mcu-profile.py --by-function STAGE DEPTH ELF1 PROF1 ELF2 PROF2
+       mcu-profile.py --instructions FUNCTION MIN MAX ELF1 PROF1 ELF2 PROF2
   ELFn/PROFn: the firmware rendering n frames and its per-address instruction counts
   (benches/qemu-pcprof); COVERED: covered pixels per frame; WRITTEN, RUNS, DRAWN: the frame's
   pixels written, runs of pixels and triangles drawn (the firmware's JSON line), for the
@@ -74,7 +75,61 @@ def by_function(elf, prof, stage_part, depth):
     return total
 
 
+def symbol_offsets(elf, prof):
+    """{(symbol without hash, offset): (count, address, instruction)} of every executed address
+    of `elf` (the named symbol at or before it, not a mapping symbol such as `$t`)."""
+    counts = {int(a, 16): int(c) for a, c in (line.split() for line in open(prof))}
+    text = subprocess.run(["llvm-objdump", "-d", "--no-show-raw-insn", elf], capture_output=True, text=True,
+                          check=True).stdout
+    out, symbol, start = {}, None, 0
+    for line in text.splitlines():
+        head = re.match(r"([0-9a-f]+) <(.*)>:", line)
+        if head:
+            if not head.group(2).startswith("$"):
+                symbol, start = re.sub(r"17h[0-9a-f]{16}E$", "", head.group(2)), int(head.group(1), 16)
+            continue
+        insn = re.match(r"\s*([0-9a-f]+):\s+(.*)", line)
+        if insn and symbol is not None:
+            address = int(insn.group(1), 16)
+            if address in counts:
+                out[(symbol, address - start)] = (counts[address], address, insn.group(2).split("@")[0].strip())
+    return out
+
+
+def instructions(function, low, high, elf1, prof1, elf2, prof2):
+    """Prints the instructions of `function` run `low..high` times a frame (see the usage)."""
+    one, two = symbol_offsets(elf1, prof1), symbol_offsets(elf2, prof2)
+    rows = []
+    for key, (count, address, insn) in two.items():
+        per_frame = count - one.get(key, (0,))[0]
+        if function in key[0] and low <= per_frame < high:
+            rows.append((address, per_frame, insn, key[0]))
+    rows.sort()
+    lines = subprocess.run(["llvm-addr2line", "--output-style=JSON", "-i", "-e", elf2],
+                           input="\n".join(hex(r[0]) for r in rows) + "\n", capture_output=True, text=True,
+                           check=True).stdout.strip().split("\n")
+    kinds, symbol = collections.Counter(), None
+    for (address, per_frame, insn, name), line in zip(rows, lines):
+        # The innermost (inlined) frame's file and line.
+        frame = (json.loads(line)["Symbol"] or [{}])[0]
+        place = f"{frame.get('FileName', '?').rsplit('/', 1)[-1]}:{frame.get('Line', 0)}"
+        if name != symbol:
+            print(f"--- {name}")
+            symbol = name
+        print(f"{address:8x} {per_frame:8d}  {insn:44s} {place}")
+        op = insn.split()[0]
+        kind = "load" if op.startswith(("ldr", "ldm", "vldr", "pop", "vpop")) else \
+            "store" if op.startswith(("str", "stm", "vstr", "push", "vpush")) else "other"
+        kinds[kind] += per_frame
+    print(f"{len(rows)} instructions, {sum(kinds.values())} executions a frame: "
+          + ", ".join(f"{k} {v}" for k, v in sorted(kinds.items())))
+
+
 def main():
+    if sys.argv[1] == "--instructions":
+        function, low, high = sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
+        instructions(function, low, high, *sys.argv[5:9])
+        return
     if sys.argv[1] == "--by-function":
         stage_part, depth, elf1, prof1, elf2, prof2 = sys.argv[2:8]
         one, two = by_function(elf1, prof1, stage_part, int(depth)), by_function(elf2, prof2, stage_part, int(depth))

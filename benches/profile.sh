@@ -5,17 +5,20 @@
 # benches/mcu-profile.py and the firmware's JSON line.
 #
 #   benches/profile.sh [--target TRIPLE] [--bands 1|8] [--features F,...] [--keep DIR]
-#                      [--by-function STAGE [DEPTH]]
+#                      [--by-function STAGE [DEPTH]] [--instructions FUNCTION MIN MAX]
 #
 # --target: thumbv7em-none-eabihf (default, mps2-an386's Cortex-M4F) or thumbv6m-none-eabi
 # (run on mps2-an385's Cortex-M3); --bands: 1 (default) or 8; --features: the firmware's other
 # features (view-far, view-near, checked-spans); --keep: leave the ELFs and per-address counts
 # in DIR (to read with llvm-objdump beside them); --by-function: also where the stages whose
 # name contains STAGE go, by function at inlining depth DEPTH (default -1, the outermost: see
-# benches/mcu-profile.py). Needs what benches/mcu.sh needs, with python3 and llvm-addr2line.
+# benches/mcu-profile.py); --instructions: also every instruction of the functions whose name
+# contains FUNCTION run MIN..MAX-1 times a frame, with its source line (for example `fragments
+# 600 700` around Suzanne's 634 drawn triangles: what runs once a triangle). Needs what
+# benches/mcu.sh needs, with python3, llvm-objdump and llvm-addr2line.
 set -euo pipefail
 root="$(git -C "$(dirname "${BASH_SOURCE[0]}")" rev-parse --show-toplevel)"
-target=thumbv7em-none-eabihf bands=1 features="" keep="" split="" depth=-1
+target=thumbv7em-none-eabihf bands=1 features="" keep="" split="" depth=-1 listing=()
 while [ $# -gt 0 ]; do
     case "$1" in
         --target) target="$2"; shift 2 ;;
@@ -25,6 +28,7 @@ while [ $# -gt 0 ]; do
         --by-function)
             split="$2"; shift 2
             if [ $# -gt 0 ] && [[ "$1" =~ ^-?[0-9]+$ ]]; then depth="$1"; shift; fi ;;
+        --instructions) listing=("$2" "$3" "$4"); shift 4 ;;
         *) echo "profile: unknown argument $1" >&2; exit 2 ;;
     esac
 done
@@ -61,6 +65,11 @@ python3 "$root/benches/mcu-profile.py" "$work/fw-1.elf" "$work/pc-1.txt" "$work/
 if [ -n "$split" ]; then
     echo
     python3 "$root/benches/mcu-profile.py" --by-function "$split" "$depth" \
+        "$work/fw-1.elf" "$work/pc-1.txt" "$work/fw-2.elf" "$work/pc-2.txt"
+fi
+if [ ${#listing[@]} -gt 0 ]; then
+    echo
+    python3 "$root/benches/mcu-profile.py" --instructions "${listing[@]}" \
         "$work/fw-1.elf" "$work/pc-1.txt" "$work/fw-2.elf" "$work/pc-2.txt"
 fi
 echo
