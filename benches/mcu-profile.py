@@ -16,8 +16,15 @@ With --by-function: the instructions per frame of the stages whose name contains
 all), by the function at DEPTH of each address's inlining chain (0: the innermost, inlined
 one; -1: the outermost, the function the code lies in), largest first: where a stage's count
 goes.
+With --instructions: every instruction of the functions (symbols) whose name contains FUNCTION
+("" for all) run between MIN and MAX - 1 times a frame, in address order, with its source line,
+then a summary by kind (loads, stores, other): what runs once a triangle (MIN..MAX around the
+drawn triangles), once a run, once a pixel. The two builds lay code out at different addresses
+and order a function's monomorphised copies differently, so an instruction is matched by its
+symbol (without the hash), the digest of that copy's code (addresses left out) and its offset.
 """
 import collections
+import hashlib
 import json
 import re
 import subprocess
@@ -76,23 +83,35 @@ def by_function(elf, prof, stage_part, depth):
 
 
 def symbol_offsets(elf, prof):
-    """{(symbol without hash, offset): (count, address, instruction)} of every executed address
-    of `elf` (the named symbol at or before it, not a mapping symbol such as `$t`)."""
+    """{(symbol without hash, digest of its code, rank, offset): (count, address, instruction)} of
+    every executed address of `elf` (the named symbol at or before it, not a mapping symbol such
+    as `$t`). Monomorphised copies share a name without the hash, and the two builds may order
+    them differently: the digest of a copy's instructions (addresses left out) tells them apart,
+    and the rank among copies of equal code (in address order) what is left."""
     counts = {int(a, 16): int(c) for a, c in (line.split() for line in open(prof))}
     text = subprocess.run(["llvm-objdump", "-d", "--no-show-raw-insn", elf], capture_output=True, text=True,
                           check=True).stdout
-    out, symbol, start = {}, None, 0
+    symbols, current = [], None
     for line in text.splitlines():
         head = re.match(r"([0-9a-f]+) <(.*)>:", line)
         if head:
             if not head.group(2).startswith("$"):
-                symbol, start = re.sub(r"17h[0-9a-f]{16}E$", "", head.group(2)), int(head.group(1), 16)
+                current = (re.sub(r"17h[0-9a-f]{16}E$", "", head.group(2)), int(head.group(1), 16), [])
+                symbols.append(current)
             continue
         insn = re.match(r"\s*([0-9a-f]+):\s+(.*)", line)
-        if insn and symbol is not None:
-            address = int(insn.group(1), 16)
+        if insn and current is not None:
+            current[2].append((int(insn.group(1), 16), insn.group(2).split("@")[0].strip()))
+    out, seen = {}, collections.Counter()
+    for name, start, code in symbols:
+        # Without addresses: branch targets, and the halves of addresses that `movw`/`movt` build.
+        plain = (re.sub(r"0x[0-9a-f]+|<[^>]*>|(?<=^mov[wt])(.*#)\d+", r"\1", i) for _, i in code)
+        digest = hashlib.sha1("\n".join(plain).encode()).hexdigest()
+        rank = seen[(name, digest)]
+        seen[(name, digest)] += 1
+        for address, insn in code:
             if address in counts:
-                out[(symbol, address - start)] = (counts[address], address, insn.group(2).split("@")[0].strip())
+                out[(name, digest, rank, address - start)] = (counts[address], address, insn)
     return out
 
 
@@ -103,7 +122,7 @@ def instructions(function, low, high, elf1, prof1, elf2, prof2):
     for key, (count, address, insn) in two.items():
         per_frame = count - one.get(key, (0,))[0]
         if function in key[0] and low <= per_frame < high:
-            rows.append((address, per_frame, insn, key[0]))
+            rows.append((address, per_frame, insn, f"{key[0]} ({key[1][:8]})"))
     rows.sort()
     lines = subprocess.run(["llvm-addr2line", "--output-style=JSON", "-i", "-e", elf2],
                            input="\n".join(hex(r[0]) for r in rows) + "\n", capture_output=True, text=True,
