@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs one fuzz target for a while: scripts/fuzz.sh TARGET SECONDS [CORPUS_DIR]
+# Runs one fuzz target for a while: scripts/fuzz.sh TARGET SECONDS [CORPUS_DIR [LIBFUZZER_ARG...]]
+# (SECONDS 0: no time limit, for runs bounded by `-runs=N`, see scripts/fuzz-campaign.sh)
 #
 # Targets (fuzz/fuzz_targets): parse (.s3d bytes, then every accessor and a small draw),
 # babylon (the .babylon reader and the .s3d writer), draw (a seed model drawn with arbitrary
@@ -23,6 +24,7 @@ if ! cargo fuzz --version >/dev/null 2>&1; then
 fi
 
 corpus="${3:-}"
+shift $(($# < 3 ? $# : 3))
 if [ -z "$corpus" ]; then
     corpus="$(mktemp -d)"
     trap 'rm -rf "$corpus"' EXIT
@@ -34,7 +36,7 @@ seeds=()
 log="$(mktemp)"
 status=0
 cargo fuzz run -s none --debug-assertions "$target" "$corpus" ${seeds[@]+"${seeds[@]}"} -- \
-    -max_total_time="$seconds" -rss_limit_mb=4096 -timeout=20 -print_final_stats=1 >"$log" 2>&1 || status=$?
+    -max_total_time="$seconds" "$@" -rss_limit_mb=4096 -timeout=20 -print_final_stats=1 >"$log" 2>&1 || status=$?
 grep -E '^(Done|stat::number_of_executed_units)' "$log" || true
 if [ "$status" -ne 0 ]; then
     tail -n 60 "$log"
