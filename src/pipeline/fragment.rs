@@ -179,16 +179,11 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     // One monomorphised loop per lighting (with its number of varyings) and dithering.
     macro_rules! with_dither {
         ($varyings:expr, $lighting:expr) => {{
-            // See `VariantCorners`.
-            #[cfg(not(soft_float))]
-            let corners = &tri.corners::<{ $varyings }>();
-            #[cfg(soft_float)]
-            let corners = tri;
             // Formats that ignore the position take the plain path (the same pixels).
             if ctx.opts.dither && C::DITHERS {
-                fragments::<_, _, _, _, { $varyings }, true>(band, raster, corners, winding, base, $lighting, stats)
+                fragments::<_, _, _, _, { $varyings }, true>(band, raster, tri, winding, base, $lighting, stats)
             } else {
-                fragments::<_, _, _, _, { $varyings }, false>(band, raster, corners, winding, base, $lighting, stats)
+                fragments::<_, _, _, _, { $varyings }, false>(band, raster, tri, winding, base, $lighting, stats)
             }
         }};
     }
@@ -250,28 +245,19 @@ fn affine_tolerance<const V: usize>(other: u32) -> [u32; V] {
     core::array::from_fn(|k| if is_texel_coordinate(k) { 1 << 12 } else { other })
 }
 
-/// A variant's corners as [`fragments`] gets them: built by [`fill_with`] with an FPU (the
-/// span loop then keeps more in registers), and by `fragments` itself without one (there
-/// `fill_with`'s frame would hold every variant's, deepening the stack under the rasterizer).
-#[cfg(not(soft_float))]
-type VariantCorners<'a, const V: usize> = &'a [Corner<V>; 3];
-/// See the FPU targets' definition.
-#[cfg(soft_float)]
-type VariantCorners<'a, const V: usize> = Corners<'a>;
-
 // Not inlined: each variant's `Setup` gets its own frame instead of all of them sharing (and
-// enlarging) the caller's.
+// enlarging) the caller's. The corners are built here, in the variant's own form, for the same
+// reason (in `fill_with`'s frame they would all be there at once).
 #[inline(never)]
 fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
     (window, subspan, tolerance, fpu): (&Window, u32, u32, bool),
-    tri: VariantCorners<'_, V>,
+    tri: Corners<'_>,
     winding: Winding,
     base: &B,
     lighting: &Lt,
     stats: &mut Stats,
 ) -> Result<(), Reject> {
-    #[cfg(soft_float)]
     let tri = &tri.corners::<V>();
     let area = match winding.area {
         Some(area) => area,

@@ -426,8 +426,9 @@ pub(crate) struct Transforms {
     /// The integer transform and the bounding sphere it maps float positions into, with
     /// [`RenderOptions::fixed_vertices`].
     pub(crate) fixed: Option<(FixedTransform, (Vec3, f32))>,
-    /// Gouraud vertex light in integers, with [`RenderOptions::fixed_vertices`] when the lights
-    /// allow it (see [`PreparedLights::fixed`]).
+    /// Gouraud vertex light in integers, whenever the lights allow it (see
+    /// [`PreparedLights::fixed`]) and the normal matrix is a rotation; on every target, as it
+    /// costs fewer instructions than f32 even with an FPU.
     pub(crate) fixed_lights: Option<FixedLights<MAX_FIXED_LIGHTS>>,
 }
 
@@ -455,7 +456,7 @@ impl Transforms {
             Some((FixedTransform::new(&mvp, offset, step)?, sphere))
         });
         let rotation = crate::math::is_rotation(&normals);
-        let integer_light = ctx.opts.fixed_vertices && rotation && !ctx.lit_by_position;
+        let integer_light = rotation && !ctx.lit_by_position;
         Transforms {
             mvp,
             fixed,
