@@ -634,7 +634,11 @@ mod tests {
                 fill_in_blocks(&mut buffer[start..start + len], Rgb565::RED);
                 for (i, &v) in buffer.iter().enumerate() {
                     let inside = (start..start + len).contains(&i);
-                    assert_eq!(v, if inside { Rgb565::RED } else { Rgb565::WHITE }, "start {start}, len {len}, entry {i}");
+                    assert_eq!(
+                        v,
+                        if inside { Rgb565::RED } else { Rgb565::WHITE },
+                        "start {start}, len {len}, entry {i}"
+                    );
                 }
             }
         }
