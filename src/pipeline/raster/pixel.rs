@@ -125,12 +125,16 @@ impl<const V: usize> Setup<V> {
             worst = worst.max((m + (1 << (b - 1)) - 1) >> (b - 1));
             (differences, origins) = (differences | m, origins | ones(self.v0[k]));
         }
-        // Every `v_0` exact in f32, and every value within i32: below `|v_0| + M + tolerance`,
-        // under 2^24 + 2^30 + 2^12, and so is shifted `v`.
-        let k = VertexLit::V;
-        let v = u64::from(ones(self.v0[k])) + u64::from(ones(self.d1[k]).max(ones(self.d2[k]))) + 2 + (1 << 12);
         let within = worst <= per_unit >> (Q_BITS - 24) && differences < 1 << 30;
-        if !(fits && within && origins < (1 << 24) - 1 && v << v_shift.min(32) < 1 << 31) {
+        if !(fits && within && origins < (1 << 24) - 1) {
+            return None;
+        }
+        // Every `v_0` exact in f32, and every value within i32: below `|v_0| + M + tolerance`,
+        // under 2^24 + 2^30 + 2^12 (so within u32, as checked above), and so is shifted `v`:
+        // `v << v_shift < 2^31` where `v` has more leading zeros than `v_shift`.
+        let k = VertexLit::V;
+        let v = ones(self.v0[k]) + ones(self.d1[k]).max(ones(self.d2[k])) + 2 + (1 << 12);
+        if v.leading_zeros() <= v_shift {
             return None;
         }
         let cursor = self.row_cursor_inside(z)?;
