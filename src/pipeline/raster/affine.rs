@@ -4,7 +4,7 @@
 //! depth plane ([`integer_depth_plane`]), both through the area's reciprocal
 //! ([`AreaReciprocal`]). It does not decide that (`raster` does) or step pixels (`span` does).
 
-use super::perspective::{leading_zeros, mul_i32, mul_u32, reciprocal};
+use super::perspective::{leading_zeros, mul_i32, mul_u32, mul_u32_small, reciprocal};
 use super::Edge;
 use crate::fixed::DEPTH40_ONE;
 use crate::fixed::{fdot8_floor, fdot8_round, FDot16, FDot8};
@@ -100,10 +100,10 @@ impl<const V: usize> AffinePlanes<V> {
         // Within 2^30 in integers: `origin + gx·x + gy·y` fits i32 for every pixel of the box,
         // and `gx + 128` too. `x ^ (x >> 31)` is `|x|` or `|x| - 1` (one instruction): the sum
         // is at most `1 + w + h` under the exact one, still far within i32. The products are
-        // 32 x 32 -> 64 bits (`umull`; without one, four 16-bit products, not a 64-bit
-        // multiply's library call).
+        // 32 x 32 -> 64 bits (`umull`; without one, two 16-bit products each, the box being
+        // under 2^11 pixels each way, not a 64-bit multiply's library call).
         let abs = |v: i32| (v ^ (v >> 31)) as u32;
-        if u64::from(abs(o)) + mul_u32(abs(gx), w) + mul_u32(abs(gy), h) >= 1 << 30 {
+        if u64::from(abs(o)) + mul_u32_small(abs(gx), w) + mul_u32_small(abs(gy), h) >= 1 << 30 {
             return None;
         }
         (self.origin[k], self.gx[k], self.gy[k], self.step[k]) = (o, gx, gy, fdot8_round(gx));

@@ -40,6 +40,21 @@ pub(super) fn mul_u32(a: u32, b: u32) -> u64 {
     }
 }
 
+/// `a · b` in full, for a `b` usually below 2^16 (a box's width, a tolerance): there, where
+/// there is no widening multiply (see [`mul_u32`]), from two 16 x 16-bit products instead of
+/// [`mul_u32_halves`]'s four.
+#[inline(always)]
+pub(super) fn mul_u32_small(a: u32, b: u32) -> u64 {
+    #[cfg(no_hw_divide)]
+    {
+        mul_u32_small_halves(a, b)
+    }
+    #[cfg(not(no_hw_divide))]
+    {
+        u64::from(a) * u64::from(b)
+    }
+}
+
 /// `a · b` in full, signed (see [`mul_u32`], [`mul_i32_halves`]).
 #[inline(always)]
 pub(super) fn mul_i32(a: i32, b: i32) -> i64 {
@@ -51,6 +66,16 @@ pub(super) fn mul_i32(a: i32, b: i32) -> i64 {
     {
         i64::from(a) * i64::from(b)
     }
+}
+
+/// [`mul_u32_small`] from 16 x 16-bit products: two for `b < 2^16`, else four.
+#[cfg(any(no_hw_divide, test))]
+#[inline(always)]
+fn mul_u32_small_halves(a: u32, b: u32) -> u64 {
+    if b >> 16 != 0 {
+        return mul_u32_halves(a, b);
+    }
+    (u64::from((a >> 16) * b) << 16) + u64::from((a & 0xffff) * b)
 }
 
 /// `a · b` from four 16 x 16-bit products.
@@ -186,8 +211,8 @@ pub(super) fn interpolate(v0: i32, d1: i32, d2: i32, [w1, w2]: [i32; 2]) -> i32 
 /// `q_min` (the largest being 1): see `Setup::allow_affine`. Exact.
 #[inline(always)]
 pub(super) fn affine_within(range: u32, q_min: u32, four_tolerance: u32) -> bool {
-    // `1 << Q_BITS` is 1.
-    mul_u32(range, (1 << Q_BITS) - q_min) <= mul_u32(four_tolerance, q_min)
+    // `1 << Q_BITS` is 1. The pipeline's tolerances are at most 2^12 (see `mul_u32_small`).
+    mul_u32(range, (1 << Q_BITS) - q_min) <= mul_u32_small(q_min, four_tolerance)
 }
 
 /// Whether `|dv| · (max(qa, qb) / min(qa, qb) - 1) <= four_tolerance` for every varying, with
@@ -201,7 +226,7 @@ pub(super) fn linear_within<const V: usize>(dv: [i32; V], (qa, qb): (u32, u32), 
         return false;
     }
     let diff = (hi - lo).saturating_add(1);
-    (0..V).all(|k| mul_u32(dv[k].unsigned_abs(), diff) <= mul_u32(four_tolerance[k], lo))
+    (0..V).all(|k| mul_u32(dv[k].unsigned_abs(), diff) <= mul_u32_small(lo, four_tolerance[k]))
 }
 
 /// `x.leading_zeros()` for `x > 0`, with no library call (see
@@ -278,6 +303,8 @@ pub(super) mod tests {
         for _ in 0..100_000 {
             let (a, b) = (next(), next());
             assert_eq!(mul_u32(a, b), a as u64 * b as u64);
+            assert_eq!(mul_u32_small_halves(a, b), a as u64 * b as u64);
+            assert_eq!(mul_u32_small_halves(a, b & 0xffff), a as u64 * (b & 0xffff) as u64);
             let x = a >> (b % 32) | 1;
             assert_eq!(crate::math::leading_zeros_by_table(x), x.leading_zeros());
             let (a, b) = (a as i32, b as i32);
