@@ -1,7 +1,8 @@
 //! Lights, as the caller sets them up per frame ([`Lights`]) and as the pipeline evaluates them:
 //! per vertex or per face in f32 ([`PreparedLights`]), per vertex in integers whenever the
-//! lights allow it ([`FixedLights`]: cheaper than f32 even with an FPU), and per pixel in integers for Phong ([`PixelLights`]). It does not
-//! sample textures or combine light with colour (`texture` does).
+//! lights allow it ([`FixedLights`]: cheaper than f32 even with an FPU), and per pixel in
+//! integers for Phong ([`PixelLights`]). It does not sample textures or combine light with
+//! colour (`texture` does).
 //!
 //! The light model is Babylon.js's StandardMaterial diffuse term plus an optional Blinn-Phong
 //! specular term ([`Lights::specular`], off by default):
