@@ -355,6 +355,8 @@ pub(crate) struct Context<'l, const L: usize> {
     pub(crate) guard: GuardBand,
     pub(crate) window: Window,
     pub(crate) half: (f32, f32),
+    /// `half` times 16 (in 1/16 pixels): eight times the frame's width and height.
+    pub(crate) half_16: [i32; 2],
     /// The frame's height in pixels.
     pub(crate) height: u16,
 }
@@ -385,6 +387,7 @@ impl<'l, const L: usize> Context<'l, L> {
                 row_end: band.first_row as i32 + band.rows as i32,
             },
             half: (w * 0.5, h * 0.5),
+            half_16: [8 * i32::from(band.width), 8 * i32::from(band.height)],
             height: band.height,
         }
     }

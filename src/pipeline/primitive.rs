@@ -345,7 +345,7 @@ fn draw_clipped<C: FrameColor, D: DepthBuffer, const L: usize>(
         return TriangleRows::EMPTY;
     }
     stats.clipped += 1;
-    let screen: heapless::Vec<ScreenVertex, { MAX_CLIPPED }> = poly.iter().map(|v| project(v, ctx.half)).collect();
+    let screen: heapless::Vec<ScreenVertex, { MAX_CLIPPED }> = poly.iter().map(|v| project(ctx, v)).collect();
     draw_polygon(band, ctx, &screen, (None, None), surface, stats)
 }
 

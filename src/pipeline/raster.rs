@@ -53,6 +53,7 @@ mod walk;
 use affine::AffinePlanes;
 pub(crate) use facing::{area_in_guard_band, facing_in_guard_band, facing_of, in_guard_band};
 pub use facing::{facing, MAX_COORD, MAX_EXTENT};
+pub(crate) use perspective::{leading_zeros, mul_i32, mul_u32, reciprocal};
 use perspective::{Q_BITS, Q_MIN};
 pub(crate) use rows::{WalkedRow, WalkedRows};
 use walk::RowWalk;

@@ -13,6 +13,8 @@ use crate::fixed::{fdot4_floor, FDot16, FDot4, FDOT16_ONE};
 use crate::math::{normalize_or_zero, offset_add, times_power_of_two, u16_times, FixedTransform, Vec3, Vec4, F32};
 use crate::texture::Sampler;
 
+mod integer;
+
 /// Light (red, green, blue) and specular intensity reaching a vertex, 0..=65535 for 0..=1
 /// (the varyings' 16.16 scale, with 1.0 itself saturated: the pixel loop clamps light to
 /// 65535 anyway). Specular has 8 bits (a multiple of 257): it only ever scales an 8-bit
@@ -43,8 +45,9 @@ pub(crate) struct Projected {
 
 impl Projected {
     pub(crate) fn new<const L: usize>(ctx: &Context<'_, L>, clip: Vec4) -> Self {
-        let xy = project_xy(clip, ctx.half);
-        Projected { x: xy.x, y: xy.y, z: depth(clip, xy.inv_w), inv_w: xy.inv_w, outcode: outcode(clip, &ctx.guard) }
+        let (p, inside) = screen_point(ctx, clip);
+        let outcode = if inside { 0 } else { outcode(clip, &ctx.guard) };
+        Projected { x: p.x, y: p.y, z: p.z, inv_w: p.inv_w, outcode }
     }
 
     /// This vertex on the screen, carrying `varyings`.
@@ -369,10 +372,25 @@ pub(crate) fn vertex_varyings<const L: usize>(
 }
 
 /// Clip space to screen: viewport mapping, 1/16-pixel snapping, fixed-point varyings.
-pub(crate) fn project(v: &ClipVertex, half: (f32, f32)) -> ScreenVertex {
-    let xy = project_xy(v.pos, half);
+pub(crate) fn project<const L: usize>(ctx: &Context<'_, L>, v: &ClipVertex) -> ScreenVertex {
     // Saturating casts: huge UVs clamp instead of wrapping.
-    ScreenVertex { z: depth(v.pos, xy.inv_w), varyings: v.varyings.map(crate::math::to_i32), ..xy }
+    ScreenVertex { varyings: v.varyings.map(crate::math::to_i32), ..screen_point(ctx, v.pos).0 }
+}
+
+/// The snapped screen position (28.4), depth and `1/w` of clip-space point `pos`: in integers
+/// with `fixed_vertices` where it is inside the view volume ([`integer::project`]; every path
+/// that projects a point comes here, so a vertex lands on the same spot in each of its
+/// triangles), else in f32; no varyings. Whether it was projected in integers: then it is
+/// inside the view volume (its outcode is 0).
+#[inline(always)]
+fn screen_point<const L: usize>(ctx: &Context<'_, L>, pos: Vec4) -> (ScreenVertex, bool) {
+    if ctx.opts.fixed_vertices {
+        if let Some(p) = integer::project(pos, ctx.half_16) {
+            return (p, true);
+        }
+    }
+    let xy = project_xy(pos, ctx.half);
+    (ScreenVertex { z: depth(pos, xy.inv_w), ..xy }, false)
 }
 
 /// Depth (0..=1, near to far) of a clip-space point whose `1/w` is `inv_w`.

@@ -29,7 +29,7 @@ const WEIGHT_BITS: u32 = 30;
 /// `a · b` in full: from 16-bit halves ([`mul_u32_halves`]) where there is no widening
 /// multiply (Armv6-M, RISC-V without `m`: a 64-bit multiply there is a library call).
 #[inline(always)]
-pub(super) fn mul_u32(a: u32, b: u32) -> u64 {
+pub(crate) fn mul_u32(a: u32, b: u32) -> u64 {
     #[cfg(no_hw_divide)]
     {
         mul_u32_halves(a, b)
@@ -57,7 +57,7 @@ pub(super) fn mul_u32_small(a: u32, b: u32) -> u64 {
 
 /// `a · b` in full, signed (see [`mul_u32`], [`mul_i32_halves`]).
 #[inline(always)]
-pub(super) fn mul_i32(a: i32, b: i32) -> i64 {
+pub(crate) fn mul_i32(a: i32, b: i32) -> i64 {
     #[cfg(no_hw_divide)]
     {
         mul_i32_halves(a, b)
@@ -103,7 +103,7 @@ fn mul_i32_halves(a: i32, b: i32) -> i64 {
 /// good to 2^-8 from [`RECIPROCALS`], then two Newton steps `x (2 - d x)`, each squaring the
 /// error (and approaching from below: no overflow).
 #[inline(always)]
-pub(super) fn reciprocal(d: u32) -> u32 {
+pub(crate) fn reciprocal(d: u32) -> u32 {
     debug_assert!(d >= 1 << 31);
     let mut x = u32::from(RECIPROCALS[(d >> 24) as usize & 127]) << 15;
     for _ in 0..2 {
@@ -232,7 +232,7 @@ pub(super) fn linear_within<const V: usize>(dv: [i32; V], (qa, qb): (u32, u32), 
 /// `x.leading_zeros()` for `x > 0`, with no library call (see
 /// [`leading_zeros_by_table`](crate::math::leading_zeros_by_table)).
 #[inline(always)]
-pub(super) fn leading_zeros(x: u32) -> u32 {
+pub(crate) fn leading_zeros(x: u32) -> u32 {
     #[cfg(any(no_hw_divide, target_arch = "riscv32"))]
     {
         crate::math::leading_zeros_by_table(x)
