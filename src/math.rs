@@ -22,7 +22,7 @@ pub use exact::{offset_add, times_16, times_power_of_two, u16_times};
 use exact::{times_pow2_bits, zero_plus};
 pub use float::F32;
 use float::{greater, less};
-pub use wide::{mul_wide, wrapping_mul_small};
+pub use wide::{at_least_power_of_two, mul_wide, shl_i64, shr_i64, wrapping_mul_small};
 
 /// `x.leading_zeros()`: two halving steps and a table of bit lengths for the last byte, for
 /// targets with no count-leading-zeros instruction (Armv6-M, RISC-V without Zbb), where the

@@ -53,9 +53,89 @@ fn wrapping_mul_halves(z: i64, k: i32) -> i64 {
     ((high.wrapping_mul(k) as i64) << 32).wrapping_add(low_k)
 }
 
+/// `x >> s` (arithmetic) for `s < 32`: in 32-bit halves where a 64-bit shift by a variable
+/// amount is a library call (Armv6-M's `__aeabi_lasr`, about 20 instructions with the call).
+#[inline(always)]
+#[must_use]
+pub fn shr_i64(x: i64, s: u32) -> i64 {
+    debug_assert!(s < 32);
+    #[cfg(no_hw_divide)]
+    {
+        shr_i64_halves(x, s)
+    }
+    #[cfg(not(no_hw_divide))]
+    {
+        x >> s
+    }
+}
+
+/// [`shr_i64`] in 32-bit halves.
+#[cfg(any(no_hw_divide, test))]
+#[inline(always)]
+fn shr_i64_halves(x: i64, s: u32) -> i64 {
+    if s == 0 {
+        return x;
+    }
+    let (high, low) = ((x >> 32) as i32, x as u32);
+    ((i64::from(high >> s)) << 32) | i64::from((low >> s) | ((high as u32) << (32 - s)))
+}
+
+/// `x << s` (wrapping) for `s < 32`, as [`shr_i64`].
+#[inline(always)]
+#[must_use]
+pub fn shl_i64(x: i64, s: u32) -> i64 {
+    debug_assert!(s < 32);
+    #[cfg(no_hw_divide)]
+    {
+        shl_i64_halves(x, s)
+    }
+    #[cfg(not(no_hw_divide))]
+    {
+        x << s
+    }
+}
+
+/// [`shl_i64`] in 32-bit halves.
+#[cfg(any(no_hw_divide, test))]
+#[inline(always)]
+fn shl_i64_halves(x: i64, s: u32) -> i64 {
+    if s == 0 {
+        return x;
+    }
+    let (high, low) = ((x >> 32) as u32, x as u32);
+    ((u64::from((high << s) | (low >> (32 - s))) << 32) | u64::from(low << s)) as i64
+}
+
+/// Whether `x >= 2^n` (`n < 64`), from `x`'s 32-bit halves: no 64-bit shift (see [`shr_i64`]).
+#[inline(always)]
+#[must_use]
+pub fn at_least_power_of_two(x: u64, n: u32) -> bool {
+    debug_assert!(n < 64);
+    let (high, low) = ((x >> 32) as u32, x as u32);
+    if n >= 32 {
+        high >> (n - 32) != 0
+    } else {
+        high != 0 || low >> n != 0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The shifts in halves equal the 64-bit ones, and the power-of-two bound the comparison.
+    #[test]
+    fn shifts_in_halves_are_the_64_bit_shifts() {
+        let mut rng = crate::test_rng::Lcg(3);
+        for _ in 0..100_000 {
+            let x = (u64::from(rng.next()) << 32 | u64::from(rng.next())) as i64 >> rng.below(64);
+            let s = rng.below(32);
+            assert_eq!(shr_i64_halves(x, s), x >> s, "{x} >> {s}");
+            assert_eq!(shl_i64_halves(x, s), x << s, "{x} << {s}");
+            let n = rng.below(64);
+            assert_eq!(at_least_power_of_two(x.unsigned_abs(), n), x.unsigned_abs() >= 1 << n, "{x} {n}");
+        }
+    }
 
     /// `mul_wide`'s halves equal the 64-bit product over the whole range of `a` and the
     /// extremes of `q`.

@@ -476,26 +476,21 @@ impl<'a> DrawSetup<'a> {
     /// the caller's frame, which lives on under the rasterizer.
     #[inline(never)]
     pub(crate) fn new<const L: usize>(ctx: &Context<'_, L>, mesh: Mesh<'a>, world: Mat4) -> Self {
-        Self::with(Some(Transforms::new(ctx, &mesh, &world)), mesh, &world)
+        let flip = Mat3::from_mat4(world).determinant() < 0.0;
+        Self::with(Some(Transforms::new(ctx, &mesh, &world)), mesh, flip)
     }
 
     /// [`DrawSetup::new`] without the transforms, for a band that fills every triangle from the
-    /// vertex cache and so needs none (see `draw_mesh_with`).
+    /// vertex cache and so needs none (see `draw_mesh_with`); `flip`: whether the draw's
+    /// transform mirrors, as `new` found it.
     #[inline(always)]
-    pub(crate) fn without_transforms(mesh: Mesh<'a>, world: &Mat4) -> Self {
-        Self::with(None, mesh, world)
+    pub(crate) fn without_transforms(mesh: Mesh<'a>, flip: bool) -> Self {
+        Self::with(None, mesh, flip)
     }
 
     #[inline(always)]
-    fn with(transforms: Option<Transforms>, mesh: Mesh<'a>, world: &Mat4) -> Self {
-        DrawSetup {
-            transforms,
-            flip: Mat3::from_mat4(*world).determinant() < 0.0,
-            uv: mesh.uv_transform(),
-            arrays: mesh.arrays(),
-            mesh,
-            vertices: None,
-        }
+    fn with(transforms: Option<Transforms>, mesh: Mesh<'a>, flip: bool) -> Self {
+        DrawSetup { transforms, flip, uv: mesh.uv_transform(), arrays: mesh.arrays(), mesh, vertices: None }
     }
 
     /// The draw's transforms. A setup made without them is never asked: it draws only
@@ -513,30 +508,34 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     ctx: &Context<'_, L>,
     model: &Model<'_>,
     mesh: &Mesh<'_>,
-    world: Mat4,
-    ((mut rows, vertices), unclipped): (Caches<'_>, bool),
-) -> (Stats, bool) {
+    (transform, world): (Mat4, Mat4),
+    ((mut rows, vertices), unclipped): (Caches<'_>, Option<bool>),
+) -> (Stats, Option<bool>) {
     let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
-    // `unclipped`: an earlier band of this frame found the mesh in view (the same test, for the
-    // same camera and transform).
-    if !unclipped && !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
-        stats.culled_frustum_mesh = mesh.triangle_count();
-        if let Some(rows) = rows {
-            rows.fill(TriangleRows::EMPTY);
-        }
-        return (stats, false);
-    }
     // The cache holds one set of texel coordinates, and nothing Phong needs.
     let scale = uniform_texel_scale(ctx, model, mesh).filter(|_| ctx.opts.shading != Shading::Phong);
     // A band after the first whose draw has all its vertices `unclipped` in the cache fills
-    // every triangle from it: it needs no transforms (matrix products: soft-float without an
-    // FPU), but for flat shading's face light. Any other works them out here, at the top of
+    // every triangle from it: it needs neither the draw's matrix nor its transforms (matrix
+    // products: soft-float without an FPU), but for flat shading's face light; whether the
+    // transform mirrors, the first band found. Any other works them out here, at the top of
     // the draw (not under a triangle, where the stack is deeper).
     let filled = vertices.as_deref().is_some_and(vertex::is_filled) && scale.is_some();
-    let mut setup = if filled && unclipped && ctx.opts.mode == Mode::Solid && ctx.opts.shading != Shading::Flat {
-        DrawSetup::without_transforms(*mesh, &world)
-    } else {
-        DrawSetup::new(ctx, *mesh, world)
+    let reuse = unclipped.filter(|_| filled && ctx.opts.mode == Mode::Solid && ctx.opts.shading != Shading::Flat);
+    let mut setup = match reuse {
+        Some(flip) => DrawSetup::without_transforms(*mesh, flip),
+        None => {
+            let world = transform * world;
+            // `unclipped`: an earlier band of this frame found the mesh in view (the same
+            // test, for the same camera and transform).
+            if unclipped.is_none() && !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
+                stats.culled_frustum_mesh = mesh.triangle_count();
+                if let Some(rows) = rows {
+                    rows.fill(TriangleRows::EMPTY);
+                }
+                return (stats, None);
+            }
+            DrawSetup::new(ctx, *mesh, world)
+        }
     };
     let mut filled_unclipped = false;
     if let (Some(cache), Some(scale)) = (vertices, scale) {
@@ -560,7 +559,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
             }),
         }
     }
-    (stats, filled_unclipped)
+    (stats, filled_unclipped.then_some(setup.flip))
 }
 
 /// A draw's rows and vertices in the scratch (see [`Scratch::for_draw`]).
@@ -620,10 +619,10 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
         let (nt, nv) = (mesh.triangle_count() as usize, mesh.vertex_count() as usize);
         let unclipped = scratch.unclipped(d);
         let caches = scratch.for_draw(triangles..triangles.saturating_add(nt), vertices..vertices.saturating_add(nv));
-        let (s, filled_unclipped) = draw_mesh_with(band, ctx, model, &mesh, transform * world, (caches, unclipped));
+        let (s, filled_unclipped) = draw_mesh_with(band, ctx, model, &mesh, (transform, world), (caches, unclipped));
         stats += s;
-        if filled_unclipped {
-            scratch.set_unclipped(d);
+        if let Some(flip) = filled_unclipped {
+            scratch.set_unclipped(d, flip);
         }
         // Saturating (instances can pass `usize::MAX` on a 32-bit target): a range beyond the
         // scratch draws without it.

@@ -36,8 +36,10 @@ pub struct Scratch<'s> {
     /// Whether the current draw is that owner (see [`Scratch::claim`]).
     owned: bool,
     /// Bit `d`: the vertices of the owner's draw `d` (below 64) are cached and none needs
-    /// clipping, so its later bands need no transforms (see `DrawSetup::lazy`).
+    /// clipping, so its later bands need no transforms (see `draw_mesh_with`).
     unclipped: u64,
+    /// Bit `d`: that draw's transform mirrors (what its first band found; with `unclipped`).
+    flipped: u64,
 }
 
 /// A digest (64-bit FNV-1a) of everything the cached rows and vertices depend on: the model's
@@ -74,7 +76,7 @@ impl Scratch<'static> {
     /// No scratch memory: every band does all the work, and back-to-front order is refused.
     #[must_use]
     pub fn none() -> Self {
-        Scratch { rows: &mut [], vertices: &mut [], sort: &mut [], owner: None, owned: false, unclipped: 0 }
+        Scratch { rows: &mut [], vertices: &mut [], sort: &mut [], owner: None, owned: false, unclipped: 0, flipped: 0 }
     }
 }
 
@@ -86,7 +88,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         rows.fill(TriangleRows::UNKNOWN);
-        Scratch { rows, vertices: self.vertices, sort: self.sort, owner: None, owned: false, unclipped: 0 }
+        Scratch { rows, vertices: self.vertices, sort: self.sort, owner: None, owned: false, unclipped: 0, flipped: 0 }
     }
 
     /// Adds a vertex cache of `vertices` (reset), one entry a vertex.
@@ -96,7 +98,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         vertices.fill(TransformedVertex::UNKNOWN);
-        Scratch { rows: self.rows, vertices, sort: self.sort, owner: None, owned: false, unclipped: 0 }
+        Scratch { rows: self.rows, vertices, sort: self.sort, owner: None, owned: false, unclipped: 0, flipped: 0 }
     }
 
     /// Adds the sort list of [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront), one
@@ -113,6 +115,7 @@ impl<'s> Scratch<'s> {
             owner: self.owner,
             owned: false,
             unclipped: self.unclipped,
+            flipped: self.flipped,
         }
     }
 
@@ -121,7 +124,7 @@ impl<'s> Scratch<'s> {
         self.rows.fill(TriangleRows::UNKNOWN);
         self.vertices.fill(TransformedVertex::UNKNOWN);
         self.owner = None;
-        self.unclipped = 0;
+        (self.unclipped, self.flipped) = (0, 0);
     }
 
     /// Starts a draw for `owner`: it may use the rows and vertices when it is the first draw
@@ -144,18 +147,20 @@ impl<'s> Scratch<'s> {
         (self.rows.get_mut(triangles), self.vertices.get_mut(vertices))
     }
 
-    /// Whether the owner's draw `d` has its vertices cached, none needing clipping (see
-    /// [`Scratch::set_unclipped`]).
+    /// When the owner's draw `d` has its vertices cached, none needing clipping (see
+    /// [`Scratch::set_unclipped`]): whether its transform mirrors.
     #[inline]
-    pub(crate) fn unclipped(&self, d: usize) -> bool {
-        self.owned && d < 64 && self.unclipped >> d & 1 != 0
+    pub(crate) fn unclipped(&self, d: usize) -> Option<bool> {
+        (self.owned && d < 64 && self.unclipped >> d & 1 != 0).then_some(self.flipped >> d & 1 != 0)
     }
 
-    /// Records that draw `d` filled its vertex cache and none of them needs clipping.
+    /// Records that draw `d` filled its vertex cache and none of them needs clipping, and
+    /// whether its transform mirrors (`flip`).
     #[inline]
-    pub(crate) fn set_unclipped(&mut self, d: usize) {
+    pub(crate) fn set_unclipped(&mut self, d: usize, flip: bool) {
         if self.owned && d < 64 {
             self.unclipped |= 1 << d;
+            self.flipped |= u64::from(flip) << d;
         }
     }
 

@@ -8,7 +8,9 @@ use super::perspective::{leading_zeros, mul_i32, mul_u32, mul_u32_small, recipro
 use super::Edge;
 use crate::fixed::DEPTH40_ONE;
 use crate::fixed::{fdot8_floor, fdot8_round, FDot16, FDot8};
-use crate::math::{mul_wide, times_16, times_power_of_two, to_i32, wrapping_mul_small, F32};
+use crate::math::{
+    at_least_power_of_two, mul_wide, shl_i64, shr_i64, times_16, times_power_of_two, to_i32, wrapping_mul_small, F32,
+};
 
 /// Affine varyings: `v(x, y) = base + (origin + gx·x + gy·y) / 256` in pixels from the origin
 /// pixel centre, in integers (24.8 varying units: rounding adds under 2^-8 units per pixel of
@@ -219,7 +221,7 @@ impl AreaReciprocal {
     #[inline(always)]
     fn times(&self, p: i64, k: u32) -> Option<i32> {
         // `s <= 31`: `n >= 19`.
-        if p.unsigned_abs() >= 1 << (62 - self.s - k) {
+        if at_least_power_of_two(p.unsigned_abs(), 62 - self.s - k) {
             return None;
         }
         // `|p · r / 2^n| < 2^31`: the quotient fits i32.
@@ -247,9 +249,9 @@ impl AreaReciprocal {
         // Below 32 the shift is left, of `|hi| < 2^46` (`p` below 2^47) by at most 15, or of
         // `|hi| < 2^(n - 1)` (`p` below `2^n`) by `32 - n`: within i64 either way.
         if n >= 32 {
-            hi >> (n - 32)
+            shr_i64(hi, n - 32)
         } else {
-            (hi << (32 - n)) | i64::from(low as u32 >> n)
+            shl_i64(hi, 32 - n) | i64::from(low as u32 >> n)
         }
     }
 }

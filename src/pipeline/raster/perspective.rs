@@ -171,7 +171,8 @@ fn unpack_positive(bits: u32) -> (i32, u32) {
 /// module's numbers.
 #[inline(always)]
 pub(super) fn edge_shift(area: u32) -> u32 {
-    area.leading_zeros()
+    // Not `area.leading_zeros()`: a library call without a count-leading-zeros instruction.
+    leading_zeros(area)
 }
 
 /// The weights of vertices 1 and 2 (fractions of `2^WEIGHT_BITS`) where the edge functions are
