@@ -315,12 +315,25 @@ impl FixedTransform {
     /// The clip-space position of the point with integer coordinates `q`.
     #[must_use]
     pub fn apply(&self, q: [i32; 3]) -> Vec4 {
-        let row = |i: usize| {
-            let sum =
-                self.b[i] + mul_wide(self.a[i][0], q[0]) + mul_wide(self.a[i][1], q[1]) + mul_wide(self.a[i][2], q[2]);
-            i64_to_f32_scaled(sum, self.e[i])
-        };
+        let sums = self.sums(q);
+        let row = |i: usize| i64_to_f32_scaled(sums[i], self.e[i]);
         Vec4::new(row(0), row(1), row(2), row(3))
+    }
+
+    /// The clip-space position of the point with integer coordinates `q`, exactly: coordinate
+    /// `i` is `sums[i] · 2^-e[i]`, with `e` from [`FixedTransform::exponents`].
+    #[inline(always)]
+    #[must_use]
+    pub fn sums(&self, q: [i32; 3]) -> [i64; 4] {
+        core::array::from_fn(|i| {
+            self.b[i] + mul_wide(self.a[i][0], q[0]) + mul_wide(self.a[i][1], q[1]) + mul_wide(self.a[i][2], q[2])
+        })
+    }
+
+    /// The power-of-two scale of each coordinate's sum (see [`FixedTransform::sums`]).
+    #[must_use]
+    pub fn exponents(&self) -> [i32; 4] {
+        self.e
     }
 }
 

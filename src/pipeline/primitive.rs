@@ -17,6 +17,7 @@ use super::vertex::{
 };
 use super::{Context, DrawSetup, Mode, Shading, Stats};
 use crate::format::Material;
+use crate::math::Vec4;
 use crate::target::{Band, DepthBuffer, FrameColor};
 use crate::texture::{Repeat565, Sampler};
 
@@ -168,7 +169,7 @@ fn draw_other<C: FrameColor, D: DepthBuffer, const L: usize>(
             rows
         }
         Other::Inside(tri, known) => draw_polygon(band, ctx, &tri, known, surface, stats),
-        Other::Clipped(tri) => draw_clipped(band, ctx, &tri, surface, stats),
+        Other::Clipped(tri, corners) => draw_clipped(band, ctx, (&tri, &corners), surface, stats),
     }
 }
 
@@ -179,8 +180,8 @@ enum Other {
     /// Projected, wholly inside the clipping planes, with what [`facing`] and
     /// [`TriangleRows::of`] said when known.
     Inside([ScreenVertex; 3], (Option<i32>, Option<TriangleRows>)),
-    /// Crosses a clipping plane: cut it first.
-    Clipped([ClipVertex; 3]),
+    /// Crosses a clipping plane: cut it first. With its corners projected.
+    Clipped([ClipVertex; 3], [Projected; 3]),
 }
 
 /// Fetch, cull, light and classify triangle `t` for [`draw_other`]: from the vertex cache when
@@ -326,16 +327,19 @@ fn full_varyings<const L: usize>(
         let tri = core::array::from_fn(|k| p[k].screen_vertex(varyings[k].map(crate::math::to_i32)));
         return Other::Inside(tri, known);
     }
-    Other::Clipped(core::array::from_fn(|k| ClipVertex { pos: clip_position(s, idx[k]), varyings: varyings[k] }))
+    Other::Clipped(core::array::from_fn(|k| ClipVertex { pos: clip_position(s, idx[k]), varyings: varyings[k] }), *p)
 }
 
-/// Cuts a triangle that crosses a clipping plane and draws what is left. Not inlined: the
-/// polygon buffers stay off the stack of the common, unclipped path.
+/// Cuts a triangle that crosses a clipping plane and draws what is left. `corners`: its
+/// corners projected as in every other triangle (see [`projected`]), where the polygon keeps
+/// them: with the integer transform that projection is not [`project`]'s, and a shared vertex
+/// must land on the same spot in each triangle. Not inlined: the polygon buffers stay off the
+/// stack of the common, unclipped path.
 #[inline(never)]
 fn draw_clipped<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    tri: &[ClipVertex; 3],
+    (tri, corners): (&[ClipVertex; 3], &[Projected; 3]),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {
@@ -345,7 +349,16 @@ fn draw_clipped<C: FrameColor, D: DepthBuffer, const L: usize>(
         return TriangleRows::EMPTY;
     }
     stats.clipped += 1;
-    let screen: heapless::Vec<ScreenVertex, { MAX_CLIPPED }> = poly.iter().map(|v| project(ctx, v)).collect();
+    // A corner the polygon kept is a copy of it (`cut` copies the vertices inside a plane);
+    // a point clipping made that is the same point bit for bit gets its projection too.
+    let same = |a: Vec4, b: Vec4| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits);
+    let screen: heapless::Vec<ScreenVertex, { MAX_CLIPPED }> = poly
+        .iter()
+        .map(|v| match tri.iter().position(|c| same(c.pos, v.pos)) {
+            Some(k) => corners[k].screen_vertex(v.varyings.map(crate::math::to_i32)),
+            None => project(v, ctx.half),
+        })
+        .collect();
     draw_polygon(band, ctx, &screen, (None, None), surface, stats)
 }
 

@@ -45,9 +45,8 @@ pub(crate) struct Projected {
 
 impl Projected {
     pub(crate) fn new<const L: usize>(ctx: &Context<'_, L>, clip: Vec4) -> Self {
-        let (p, inside) = screen_point(ctx, clip);
-        let outcode = if inside { 0 } else { outcode(clip, &ctx.guard) };
-        Projected { x: p.x, y: p.y, z: p.z, inv_w: p.inv_w, outcode }
+        let xy = project_xy(clip, ctx.half);
+        Projected { x: xy.x, y: xy.y, z: depth(clip, xy.inv_w), inv_w: xy.inv_w, outcode: outcode(clip, &ctx.guard) }
     }
 
     /// This vertex on the screen, carrying `varyings`.
@@ -138,7 +137,25 @@ const WHITE: VertexLight = [u16::MAX, u16::MAX, u16::MAX, 0];
 /// cache.
 #[inline(never)]
 pub(crate) fn projected<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> Projected {
-    Projected::new(ctx, clip_position(s, i))
+    match &s.transforms().fixed {
+        Some(fixed) => fixed_projected(ctx, s, fixed, i),
+        None => Projected::new(ctx, float_clip_position(s, i)),
+    }
+}
+
+/// Vertex `i` projected with the integer transform `t` and bounding sphere `sphere`: in
+/// integers from the transform's exact sums where it is inside the view volume
+/// ([`integer::project`]), else in f32 from its clip-space position. Every path that projects
+/// a vertex of such a draw comes here (see `integer`).
+#[inline(always)]
+fn fixed_projected<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    (t, sphere): &(FixedTransform, (Vec3, f32)),
+    i: u32,
+) -> Projected {
+    let q = s.arrays.position_int(i, *sphere);
+    integer::project(t.sums(q), t.exponents(), ctx.half_16).unwrap_or_else(|| Projected::new(ctx, t.apply(q)))
 }
 
 /// The Gouraud light of corners `idx` (see [`vertex_light`]). Not inlined, as [`projected`].
@@ -168,8 +185,10 @@ pub(crate) fn fill_cache<const L: usize>(
     // One loop per case, its tests made once: the loops keep more of the matrices in registers.
     let t = s.transforms();
     match &t.fixed {
-        Some(fixed) => fill_positions(ctx, s, cache, scale, |i| fixed_clip_position(s, fixed, i)),
-        None => fill_positions(ctx, s, cache, scale, |i| t.mvp * s.arrays.position_stored(i).extend(1.0)),
+        Some(fixed) => fill_positions(s, cache, scale, |i| fixed_projected(ctx, s, fixed, i)),
+        None => {
+            fill_positions(s, cache, scale, |i| Projected::new(ctx, t.mvp * s.arrays.position_stored(i).extend(1.0)))
+        }
     }
     match ctx.opts.shading {
         Shading::Unlit => fill_light(cache, |i| coloured_light(s, i, WHITE)),
@@ -191,17 +210,16 @@ pub(crate) fn is_filled(cache: &[TransformedVertex]) -> bool {
     cache.first().is_some_and(|v| v.inv_w.to_bits() != UNKNOWN_INV_W)
 }
 
-/// [`fill_cache`]'s positions, with `position` giving a vertex's clip-space position.
+/// [`fill_cache`]'s positions, with `projected` giving a vertex's projection.
 #[inline(always)]
-fn fill_positions<const L: usize>(
-    ctx: &Context<'_, L>,
+fn fill_positions(
     s: &DrawSetup<'_>,
     cache: &mut [TransformedVertex],
     scale: (f32, f32),
-    position: impl Fn(u32) -> Vec4,
+    projected: impl Fn(u32) -> Projected,
 ) {
     for (i, v) in (0u32..).zip(cache.iter_mut()) {
-        *v = TransformedVertex::new(Projected::new(ctx, position(i)), texel(s, i, scale));
+        *v = TransformedVertex::new(projected(i), texel(s, i, scale));
     }
 }
 
@@ -372,25 +390,10 @@ pub(crate) fn vertex_varyings<const L: usize>(
 }
 
 /// Clip space to screen: viewport mapping, 1/16-pixel snapping, fixed-point varyings.
-pub(crate) fn project<const L: usize>(ctx: &Context<'_, L>, v: &ClipVertex) -> ScreenVertex {
+pub(crate) fn project(v: &ClipVertex, half: (f32, f32)) -> ScreenVertex {
+    let xy = project_xy(v.pos, half);
     // Saturating casts: huge UVs clamp instead of wrapping.
-    ScreenVertex { varyings: v.varyings.map(crate::math::to_i32), ..screen_point(ctx, v.pos).0 }
-}
-
-/// The snapped screen position (28.4), depth and `1/w` of clip-space point `pos`: in integers
-/// with `fixed_vertices` where it is inside the view volume ([`integer::project`]; every path
-/// that projects a point comes here, so a vertex lands on the same spot in each of its
-/// triangles), else in f32; no varyings. Whether it was projected in integers: then it is
-/// inside the view volume (its outcode is 0).
-#[inline(always)]
-fn screen_point<const L: usize>(ctx: &Context<'_, L>, pos: Vec4) -> (ScreenVertex, bool) {
-    if ctx.opts.fixed_vertices {
-        if let Some(p) = integer::project(pos, ctx.half_16) {
-            return (p, true);
-        }
-    }
-    let xy = project_xy(pos, ctx.half);
-    (ScreenVertex { z: depth(pos, xy.inv_w), ..xy }, false)
+    ScreenVertex { z: depth(v.pos, xy.inv_w), varyings: v.varyings.map(crate::math::to_i32), ..xy }
 }
 
 /// Depth (0..=1, near to far) of a clip-space point whose `1/w` is `inv_w`.

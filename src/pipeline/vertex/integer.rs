@@ -1,74 +1,110 @@
 //! Projection in integers, for the fixed-point vertex path (`RenderOptions::fixed_vertices`):
-//! the snapped screen position, depth and `1/w` of a clip-space point inside the view volume
-//! from its coordinates' significands and exponents, one reciprocal (a table and two Newton
-//! steps) and 32 x 32-bit products. Without an FPU that replaces a division and five
-//! multiplications in software floats. The same integers on every target, so a frame is the
-//! same bits on the host and on the MCU; every path that projects a point (the vertex cache,
-//! the draws without one, the corners of clipped polygons) projects it through here when
-//! `fixed_vertices` is on, so two triangles sharing a vertex put it at the same place.
+//! the snapped screen position, depth and `1/w` of a vertex inside the view volume straight
+//! from the integer transform's exact sums ([`FixedTransform::sums`]), with one reciprocal (a
+//! table and two Newton steps) and 32 x 32-bit products. Without an FPU that replaces four
+//! conversions to float, a division and five multiplications in software floats. The same
+//! integers on every target, so a frame is the same bits on the host and on the MCU.
+//!
+//! Every path that projects a vertex of a draw comes here first (the vertex cache, the draws
+//! without one, and the corners of a clipped triangle, which `primitive::draw_clipped` takes
+//! from its three projected corners), so that a vertex lands on the same spot in each of its
+//! triangles; points that clipping makes are projected in f32.
 //!
 //! # Numbers
-//! - `w = m_w · 2^(e_w - 150)` (a normal float, `m_w` in `2^23..2^24`), and `r ≈ 2^54 / m_w`
-//!   ([`reciprocal`], within about 2^-30 relative, in `2^30..=2^31`; exact for a power of two).
-//! - For `|c| <= w` (the point is inside the view volume) the ratio `c / w` in 2.30 is
-//!   `m_c · r / 2^24`, shifted right by the exponents' difference: at most `2^30`.
+//! - A coordinate `sum · 2^-e` is taken as `m · 2^x` with `m` the top 32 bits of `|sum|`
+//!   (truncated: under 2^-31 relative), so `m` is in `2^31..2^32` ([`Coordinate`]).
+//! - `r ≈ 2^62 / m_w` ([`reciprocal`], within about 2^-30 relative, in `2^30..=2^31`; exact
+//!   for a power of two). For `|c| <= w` (the vertex is inside the view volume) the ratio
+//!   `c / w` in 2.30 is `m_c · r / 2^32`, shifted right by the exponents' difference: at most
+//!   `2^30`, within about 2^-29 of the exact ratio.
 //! - The snapped position (28.4) is `floor(16 · hw · (1 + x / w))`, and `16 · hw` is the
 //!   integer `K = 8 · width`: `K + floor(K · (x / w))`, the product exact in 64 bits. The
-//!   ratio's error (about 2^-29) moves a coordinate by under 2^-9 of a unit (`K` below 2^20).
+//!   ratio's error moves a coordinate by under 2^-9 of a unit (`K` below 2^20).
 
-use super::super::raster::{leading_zeros, mul_i32, mul_u32, reciprocal, ScreenVertex};
-use super::super::varyings::MAX_VARYINGS;
-use crate::math::Vec4;
+use super::super::raster::{leading_zeros, mul_i32, mul_u32, reciprocal};
+use super::Projected;
+#[cfg(doc)]
+use crate::math::FixedTransform;
 
-/// The biased exponents of the `w`s projected here: `w` between 2^-63 and 2^64, so that `1/w`
-/// is a normal float (the others take the f32 path).
-const W_EXPONENTS: core::ops::RangeInclusive<u32> = 64..=190;
+/// The exponents `x` of the `w`s projected here (`w = m · 2^x`, `m` in `2^31..2^32`): `w`
+/// between 2^-69 and 2^92, so that `1/w` is a normal float (the others take the f32 path).
+const W_EXPONENTS: core::ops::RangeInclusive<i32> = -100..=60;
 
-/// The screen position (28.4), depth (0..=1) and `1/w` of clip-space point `pos`, for a frame
-/// of `8 · width` and `8 · height` (`k`), when it lies inside the view volume (`|x|`, `|y|`,
-/// `|z|` at most `w`, which is positive and within [`W_EXPONENTS`]): its outcode is then 0.
-/// `None` otherwise (the caller projects it in f32). No varyings.
+/// A coordinate `±m · 2^x` from an exact integer sum: `m` in `2^31..2^32`, or 0 for zero.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Coordinate {
+    m: u32,
+    x: i32,
+    negative: bool,
+}
+
+impl Coordinate {
+    /// `sum · 2^-e`, its magnitude's top 32 bits kept (no 64-bit shift by a variable amount:
+    /// a library call on Armv6-M).
+    #[inline(always)]
+    fn new(sum: i64, e: i32) -> Self {
+        let magnitude = sum.unsigned_abs();
+        let (high, low) = ((magnitude >> 32) as u32, magnitude as u32);
+        let (m, zeros) = if high != 0 {
+            let zeros = leading_zeros(high);
+            // `low >> (32 - zeros)` with `zeros = 0` would shift by 32.
+            (if zeros == 0 { high } else { (high << zeros) | (low >> (32 - zeros)) }, zeros)
+        } else if low != 0 {
+            let zeros = leading_zeros(low);
+            (low << zeros, zeros + 32)
+        } else {
+            return Coordinate { m: 0, x: 0, negative: false };
+        };
+        // `|sum| ≈ m · 2^(32 - zeros)`.
+        Coordinate { m, x: 32 - zeros as i32 - e, negative: sum < 0 }
+    }
+
+    /// Whether its magnitude is at most `w`'s (a positive coordinate, `m > 0`).
+    #[inline(always)]
+    fn within(&self, w: &Coordinate) -> bool {
+        self.m == 0 || self.x < w.x || (self.x == w.x && self.m <= w.m)
+    }
+
+    /// It over `w` in 2.30 (see the module's numbers), for `|self| <= w` and `r ≈ 2^62 / w.m`.
+    #[inline(always)]
+    fn ratio(&self, w: &Coordinate, r: u32) -> i32 {
+        let shift = (w.x - self.x) as u32;
+        if self.m == 0 || shift >= 31 {
+            return 0;
+        }
+        // `m · r < 2^63`: below 2^31 once divided by 2^32.
+        let q = ((mul_u32(self.m, r) >> 32) as u32) >> shift;
+        if self.negative {
+            -(q as i32)
+        } else {
+            q as i32
+        }
+    }
+}
+
+/// The vertex whose clip-space coordinates are `sums[i] · 2^-e[i]` (x, y, z, w), projected for
+/// a frame of `8 · width` and `8 · height` (`k`), when it lies inside the view volume (`|x|`,
+/// `|y|`, `|z|` at most `w`, which is positive with an exponent in [`W_EXPONENTS`]): its
+/// outcode is then 0. `None` otherwise (the caller projects it in f32).
 #[inline(always)]
-pub(crate) fn project(pos: Vec4, [kx, ky]: [i32; 2]) -> Option<ScreenVertex> {
-    let [x, y, z, w] = pos.to_array().map(f32::to_bits);
-    // A negative `w` has its sign in the exponent's place: out of range.
-    let ew = w >> 23;
-    if !W_EXPONENTS.contains(&ew) {
+pub(super) fn project(sums: [i64; 4], e: [i32; 4], [kx, ky]: [i32; 2]) -> Option<Projected> {
+    let [x, y, z, w] = core::array::from_fn(|i| Coordinate::new(sums[i], e[i]));
+    if w.negative || w.m == 0 || !W_EXPONENTS.contains(&w.x) || ![x, y, z].iter().all(|c| c.within(&w)) {
         return None;
     }
     // A power of two (an orthographic camera's `w = 1`) exactly, so that exact ratios stay exact.
-    let fraction = w & 0x7f_ffff;
-    let r = if fraction == 0 { 1 << 31 } else { reciprocal((fraction | 1 << 23) << 8) };
-    let (rx, ry, rz) = (ratio(x, w, r)?, ratio(y, w, r)?, ratio(z, w, r)?);
+    let r = if w.m == 1 << 31 { 1 << 31 } else { reciprocal(w.m) };
+    let (rx, ry, rz) = (x.ratio(&w, r), y.ratio(&w, r), z.ratio(&w, r));
     // Floor divisions by 2^30 (arithmetic shifts); `|K · ratio| <= 2^50`.
     let sx = kx + (mul_i32(kx, rx) >> 30) as i32;
     let sy = ky + (mul_i32(ky, -ry) >> 30) as i32;
     // `(z/w + 1) / 2` in 2.30: 0..=2^30.
     let depth = ((rz >> 1) + (1 << 29)) as u32;
-    // `1/w = r · 2^(96 - e_w)`: `r / 2^30` in 1..=2 times `2^(126 - e_w)`. The significand
+    // `1/w = r · 2^(-62 - x_w)`: `r / 2^30` in 1..=2 times `2^(-32 - x_w)`. The significand
     // rounded (half up) to 24 bits, its leading bit added into the exponent (a carry to 2^24
     // raises the exponent by one, as it should).
-    let inv_w = f32::from_bits(((252 - ew) << 23) + ((r + 64) >> 7));
-    Some(ScreenVertex { x: sx, y: sy, z: unit_f32(depth), inv_w, varyings: [0; MAX_VARYINGS] })
-}
-
-/// `c / w` in 2.30 for the bits `c` of a coordinate and `w` of a positive normal `w`, `r` being
-/// `≈ 2^54 / m_w` (see the module's numbers), when `|c| <= w`. Zero for zero and for
-/// subnormals (below 2^-126 against a `w` of at least 2^-63: far below a unit).
-#[inline(always)]
-fn ratio(c: u32, w: u32, r: u32) -> Option<i32> {
-    let magnitude = c & 0x7fff_ffff;
-    // Non-negative floats order as their bits do; NaN's are above any finite `w`'s.
-    if magnitude > w {
-        return None;
-    }
-    let (e, shift) = (magnitude >> 23, (w >> 23) - (magnitude >> 23));
-    if e == 0 || shift >= 31 {
-        return Some(0);
-    }
-    // Below 2^55, so below 2^31 once divided by 2^24.
-    let q = ((mul_u32((magnitude & 0x7f_ffff) | 1 << 23, r) >> 24) as u32) >> shift;
-    Some(if c >> 31 != 0 { -(q as i32) } else { q as i32 })
+    let inv_w = f32::from_bits((((94 - w.x) as u32) << 23) + ((r + 64) >> 7));
+    Some(Projected { x: sx, y: sy, z: unit_f32(depth), inv_w, outcode: 0 })
 }
 
 /// `d / 2^30` as a float, for `d` in `0..=2^30`, the significand rounded half up.
@@ -86,58 +122,80 @@ fn unit_f32(d: u32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::{FixedTransform, Mat4, Vec3};
+    use crate::test_rng::Lcg;
 
-    /// Every projection is within a 2^-8 unit (28.4) of the exact one before the floor, and
-    /// its depth and `1/w` within 2^-23 relative.
-    #[test]
-    fn projects_like_exact_arithmetic() {
-        let mut rng = crate::test_rng::Lcg(5);
-        let k = [8 * 240, 8 * 135];
-        let mut checked = 0;
-        for _ in 0..200_000 {
-            let w = f32::from_bits(rng.below(100 << 23) + (80 << 23));
-            // Within `-w..=w` (rounding is monotonic and `w` is a float).
-            let c = [0; 3].map(|_| ((rng.unit() * 2.0 - 1.0) * w as f64) as f32);
-            let pos = Vec4::new(c[0], c[1], c[2], w);
-            let p = project(pos, k).expect("inside the view volume");
-            let exact = |c: f32, k: i32| k as f64 * (1.0 + c as f64 / w as f64);
-            let (ex, ey) = (exact(c[0], k[0]), exact(-c[1], k[1]));
-            for (got, exact) in [(p.x, ex), (p.y, ey)] {
-                // The floor of a value within 2^-8 of the exact one.
-                let (lo, hi) = ((exact - 1.0 / 256.0).floor(), (exact + 1.0 / 256.0).floor());
-                assert!((lo..=hi).contains(&f64::from(got)), "{pos:?}: {got} for {exact}");
-            }
-            let depth = (c[2] as f64 / w as f64 + 1.0) / 2.0;
-            assert!((p.z as f64 - depth).abs() <= depth * 2f64.powi(-23) + 2f64.powi(-30), "{pos:?}: {} {depth}", p.z);
-            let inv_w = 1.0 / w as f64;
-            assert!((p.inv_w as f64 - inv_w).abs() <= inv_w * 2f64.powi(-23), "{pos:?}: {} {inv_w}", p.inv_w);
-            checked += 1;
-        }
-        assert_eq!(checked, 200_000);
+    /// The exact value of `sum · 2^-e` (within f64's 2^-53).
+    fn exact(sum: i64, e: i32) -> f64 {
+        sum as f64 * 2f64.powi(-e)
     }
 
-    /// Outside the view volume, `w` not positive, or not finite: left to the f32 path.
+    /// For random transforms (a camera's magnitudes, any scale) and points: every vertex inside
+    /// the view volume is projected, within a 2^-8 unit (28.4) of the exact projection before
+    /// the floor, its depth and `1/w` within 2^-23 relative; and every vertex it refuses is
+    /// outside (or on the boundary, within 2^-30).
     #[test]
-    fn refuses_what_it_does_not_project() {
-        let k = [8 * 240, 8 * 240];
-        for pos in [
-            Vec4::new(1.5, 0.0, 0.0, 1.0),
-            Vec4::new(0.0, -1.5, 0.0, 1.0),
-            Vec4::new(0.0, 0.0, 1.0001, 1.0),
-            Vec4::new(0.0, 0.0, 0.0, -1.0),
-            Vec4::new(0.0, 0.0, 0.0, 0.0),
-            Vec4::new(f32::NAN, 0.0, 0.0, 1.0),
-            Vec4::new(0.0, 0.0, 0.0, f32::INFINITY),
-            Vec4::new(0.0, 0.0, 0.0, f32::NAN),
-            Vec4::new(0.0, 0.0, 0.0, 1e-30),
-        ] {
-            assert!(project(pos, k).is_none(), "{pos:?}");
+    fn projects_like_exact_arithmetic() {
+        let mut rng = Lcg(5);
+        let k = [8 * 240, 8 * 135];
+        let (mut inside, mut refused) = (0, 0);
+        for _ in 0..2_000 {
+            let scale = 2f32.powi(rng.below(40) as i32 - 20);
+            let m = crate::math::perspective_lh(0.3 + rng.unit() as f32 * 1.5, 1.3, 0.1 * scale, 100.0 * scale)
+                * Mat4::from_translation(Vec3::new(0.0, 0.0, 3.0 * scale))
+                * Mat4::from_rotation_y(rng.unit() as f32 * 6.0);
+            let t = FixedTransform::new(&m, Vec3::splat(-scale), scale / 16384.0).unwrap();
+            for _ in 0..100 {
+                let q = [0; 3].map(|_| rng.below(1 << 16) as i32 - (1 << 15));
+                let (sums, e) = (t.sums(q), t.exponents());
+                let [x, y, z, w] = core::array::from_fn(|i| exact(sums[i], e[i]));
+                let Some(p) = project(sums, e, k) else {
+                    let strictly_inside = w > 0.0 && [x, y, z].iter().all(|c| c.abs() <= w * (1.0 - 2f64.powi(-30)));
+                    assert!(!strictly_inside, "refused {x} {y} {z} {w}");
+                    refused += 1;
+                    continue;
+                };
+                assert!(
+                    w > 0.0 && [x, y, z].iter().all(|c| c.abs() <= w * (1.0 + 2f64.powi(-30))),
+                    "took {x} {y} {z} {w}"
+                );
+                let position = |c: f64, k: i32| f64::from(k) * (1.0 + c / w);
+                for (got, exact) in [(p.x, position(x, k[0])), (p.y, position(-y, k[1]))] {
+                    // The floor of a value within 2^-8 of the exact one.
+                    let (lo, hi) = ((exact - 1.0 / 256.0).floor(), (exact + 1.0 / 256.0).floor());
+                    assert!((lo..=hi).contains(&f64::from(got)), "{got} for {exact}");
+                }
+                let depth = (z / w + 1.0) / 2.0;
+                assert!((f64::from(p.z) - depth).abs() <= depth * 2f64.powi(-23) + 2f64.powi(-29), "{} {depth}", p.z);
+                assert!((f64::from(p.inv_w) * w - 1.0).abs() <= 2f64.powi(-23), "{} {w}", p.inv_w);
+                inside += 1;
+            }
         }
-        let edge = project(Vec4::new(1.0, -1.0, 1.0, 1.0), k).unwrap();
-        assert_eq!((edge.x, edge.y, edge.z, edge.inv_w), (2 * k[0], 2 * k[1], 1.0, 1.0));
-        let centre = project(Vec4::new(0.0, 0.0, -1.0, 2.0), k).unwrap();
-        let near = project(Vec4::new(0.5, 0.0, -2.0, 2.0), k).unwrap();
-        assert_eq!((near.x, near.z), (k[0] + k[0] / 4, 0.0));
+        assert!(inside > 50_000 && refused > 10_000, "{inside} inside, {refused} refused");
+    }
+
+    /// The coordinates of simple sums, and exact ratios at the edges of the view volume.
+    #[test]
+    fn exact_cases() {
+        let k = [8 * 240, 8 * 240];
+        assert_eq!(Coordinate::new(1 << 40, 40), Coordinate { m: 1 << 31, x: -31, negative: false });
+        assert_eq!(Coordinate::new(-3, 0), Coordinate { m: 3 << 30, x: -30, negative: true });
+        assert_eq!(Coordinate::new(0, 7).m, 0);
+        let one = 1i64 << 40;
+        let p = |x: i64, y: i64, z: i64, w: i64| project([x, y, z, w], [40; 4], k);
+        let corner = p(one, -one, one, one).unwrap();
+        assert_eq!((corner.x, corner.y, corner.z, corner.inv_w), (2 * k[0], 2 * k[1], 1.0, 1.0));
+        let centre = p(0, 0, -one, 2 * one).unwrap();
         assert_eq!((centre.x, centre.y, centre.z, centre.inv_w), (k[0], k[1], 0.25, 0.5));
+        let near = p(one, 0, -2 * one, 2 * one).unwrap();
+        assert_eq!((near.x, near.z), (k[0] + k[0] / 2, 0.0));
+        // Outside (by 2^-31: a coordinate keeps 32 bits), behind the eye, at it, or too far or
+        // near for a normal `1/w`.
+        let out = one + (one >> 31);
+        for refused in [p(out, 0, 0, one), p(0, -out, 0, one), p(0, 0, out, one), p(0, 0, 0, -one), p(0, 0, 0, 0)] {
+            assert!(refused.is_none());
+        }
+        assert!(project([0, 0, 0, 1], [0, 0, 0, 120], k).is_none());
+        assert!(project([0, 0, 0, 1 << 60], [0, 0, 0, -100], k).is_none());
     }
 }
