@@ -11,12 +11,13 @@
 //! triangles; points that clipping makes are projected in f32.
 //!
 //! # Numbers
-//! - A coordinate `sum · 2^-e` is taken as `m · 2^x` with `m` the top 32 bits of `|sum|`
-//!   (truncated: under 2^-31 relative), so `m` is in `2^31..2^32` ([`Coordinate`]).
+//! - `w = sum · 2^-e` is taken as `m_w · 2^x` with `m_w` the top 32 bits of `|sum|`
+//!   (truncated: under 2^-31 relative), in `2^31..2^32` ([`Coordinate`]); each other
+//!   coordinate as `m_c · 2^x`, on `w`'s scale (truncated to whole units of it).
 //! - `r ≈ 2^62 / m_w` ([`reciprocal`], within about 2^-30 relative, in `2^30..=2^31`; exact
-//!   for a power of two). For `|c| <= w` (the vertex is inside the view volume) the ratio
-//!   `c / w` in 2.30 is `m_c · r / 2^32`, shifted right by the exponents' difference: at most
-//!   `2^30`, within about 2^-29 of the exact ratio.
+//!   for a power of two). For `|c| <= w` (the vertex is inside the view volume: `m_c <= m_w`)
+//!   the ratio `c / w` in 2.30 is `m_c · r / 2^32`: at most `2^30`, within about 2^-29 of the
+//!   exact ratio.
 //! - The snapped position (28.4) is `floor(16 · hw · (1 + x / w))`, and `16 · hw` is the
 //!   integer `K = 8 · width`: `K + floor(K · (x / w))`, the product exact in 64 bits. The
 //!   ratio's error moves a coordinate by under 2^-9 of a unit (`K` below 2^20).
@@ -58,27 +59,20 @@ impl Coordinate {
         // `|sum| ≈ m · 2^(32 - zeros)`.
         Coordinate { m, x: 32 - zeros as i32 - e, negative: sum < 0 }
     }
+}
 
-    /// Whether its magnitude is at most `w`'s (a positive coordinate, `m > 0`).
-    #[inline(always)]
-    fn within(&self, w: &Coordinate) -> bool {
-        self.m == 0 || self.x < w.x || (self.x == w.x && self.m <= w.m)
-    }
-
-    /// It over `w` in 2.30 (see the module's numbers), for `|self| <= w` and `r ≈ 2^62 / w.m`.
-    #[inline(always)]
-    fn ratio(&self, w: &Coordinate, r: u32) -> i32 {
-        let shift = (w.x - self.x) as u32;
-        if self.m == 0 || shift >= 31 {
-            return 0;
-        }
-        // `m · r < 2^63`: below 2^31 once divided by 2^32.
-        let q = ((mul_u32(self.m, r) >> 32) as u32) >> shift;
-        if self.negative {
-            -(q as i32)
-        } else {
-            q as i32
-        }
+/// `x >> t` (a left shift for negative `t`, truncated), when it fits in 32 bits; from `x`'s
+/// 32-bit halves (no 64-bit shift by a variable amount: a library call on Armv6-M).
+#[inline(always)]
+fn shifted_u32(x: u64, t: i32) -> Option<u32> {
+    let (high, low) = ((x >> 32) as u32, x as u32);
+    match t {
+        64.. => Some(0),
+        32..=63 => Some(high >> (t - 32)),
+        1..=31 => (high >> t == 0).then(|| (high << (32 - t)) | (low >> t)),
+        0 => (high == 0).then_some(low),
+        -31..=-1 => (high == 0 && low >> (32 + t) == 0).then(|| low << -t),
+        _ => (x == 0).then_some(0),
     }
 }
 
@@ -88,13 +82,26 @@ impl Coordinate {
 /// outcode is then 0. `None` otherwise (the caller projects it in f32).
 #[inline(always)]
 pub(super) fn project(sums: [i64; 4], e: [i32; 4], [kx, ky]: [i32; 2]) -> Option<Projected> {
-    let [x, y, z, w] = core::array::from_fn(|i| Coordinate::new(sums[i], e[i]));
-    if w.negative || w.m == 0 || !W_EXPONENTS.contains(&w.x) || ![x, y, z].iter().all(|c| c.within(&w)) {
+    let w = Coordinate::new(sums[3], e[3]);
+    if w.negative || w.m == 0 || !W_EXPONENTS.contains(&w.x) {
         return None;
     }
+    // `|c| / w = |sum| · 2^-(e + x_w) / m_w`: each coordinate's magnitude on `w`'s scale, at
+    // most `m_w` inside the view volume (no leading-zero count of its own).
+    let magnitude = |i: usize| shifted_u32(sums[i].unsigned_abs(), e[i] + w.x).filter(|&m| m <= w.m);
+    let (mx, my, mz) = (magnitude(0)?, magnitude(1)?, magnitude(2)?);
     // A power of two (an orthographic camera's `w = 1`) exactly, so that exact ratios stay exact.
     let r = if w.m == 1 << 31 { 1 << 31 } else { reciprocal(w.m) };
-    let (rx, ry, rz) = (x.ratio(&w, r), y.ratio(&w, r), z.ratio(&w, r));
+    // In 2.30: `m · r < 2^63` (`m <= m_w`), below `2^30` once divided by 2^32.
+    let ratio = |m: u32, i: usize| {
+        let q = (mul_u32(m, r) >> 32) as i32;
+        if sums[i] < 0 {
+            -q
+        } else {
+            q
+        }
+    };
+    let (rx, ry, rz) = (ratio(mx, 0), ratio(my, 1), ratio(mz, 2));
     // Floor divisions by 2^30 (arithmetic shifts); `|K · ratio| <= 2^50`.
     let sx = kx + (mul_i32(kx, rx) >> 30) as i32;
     let sy = ky + (mul_i32(ky, -ry) >> 30) as i32;
@@ -172,6 +179,21 @@ mod tests {
             }
         }
         assert!(inside > 50_000 && refused > 10_000, "{inside} inside, {refused} refused");
+    }
+
+    /// `shifted_u32` is the 64-bit shift, where that fits in 32 bits.
+    #[test]
+    fn shifts_like_the_64_bit_shift() {
+        let mut rng = Lcg(9);
+        for _ in 0..200_000 {
+            let x = (u64::from(rng.next()) << 32 | u64::from(rng.next())) >> rng.below(64);
+            let t = rng.below(200) as i32 - 100;
+            let wide =
+                if t >= 0 { x.checked_shr(t as u32).unwrap_or(0) } else { x.checked_shl((-t) as u32).unwrap_or(0) };
+            let fits = t >= 0 || x == 0 || ((-t) < 64 && x.leading_zeros() >= (-t) as u32);
+            let expected = (fits && wide <= u64::from(u32::MAX)).then_some(wide as u32);
+            assert_eq!(shifted_u32(x, t), expected, "{x} by {t}");
+        }
     }
 
     /// The coordinates of simple sums, and exact ratios at the edges of the view volume.
