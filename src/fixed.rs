@@ -63,6 +63,30 @@ pub fn depth30_from_unit(z: f32) -> Depth30 {
     ((z * DEPTH30_FAR as f32) as u32).min(DEPTH30_FAR as u32)
 }
 
+/// A depth in 0..=1 (f32) in [`Depth30`] units, truncated: `z · 2^30` clamped to `0..=2^30`
+/// (NaN gives 0), as `to_i32(z · 2^30).clamp(0, 2^30)` gives it, from the bits alone (no
+/// float operation or conversion: library calls without an FPU).
+#[inline(always)]
+#[must_use]
+pub fn depth30_truncated(z: f32) -> i32 {
+    let b = z.to_bits();
+    // Negative (sign bit) or NaN: 0; 1 and above (infinity too): the far plane.
+    if b > 0x7f80_0000 {
+        return 0;
+    }
+    if b >= 0x3f80_0000 {
+        return 1 << 30;
+    }
+    let e = b >> 23;
+    if e < 97 {
+        // Below 2^-30 (zeros and subnormals too).
+        return 0;
+    }
+    // `z = m · 2^(e - 150)`, times 2^30: `m · 2^(e - 120)`, with `e` in 97..=126.
+    let m = (b & 0x7f_ffff) | 1 << 23;
+    (if e >= 120 { m << (e - 120) } else { m >> (120 - e) }) as i32
+}
+
 /// A [`FDot8`] plane value in whole [`FDot16`] varying units, rounded to nearest (wrapping:
 /// the planes are built so that the sum cannot overflow, see `raster::AffinePlanes::new`).
 #[inline(always)]
@@ -93,5 +117,20 @@ mod tests {
         assert_eq!(fdot8_round(384), 2);
         assert_eq!(fdot8_round(383), 1);
         assert_eq!(fdot8_floor(-1), -1);
+    }
+
+    /// `depth30_truncated` is the float product's truncation, clamped, for every exponent and
+    /// special value.
+    #[test]
+    fn depth30_truncated_is_the_clamped_product() {
+        let mut rng = crate::test_rng::Lcg(17);
+        let specials =
+            [0.0, -0.0, 1.0, -1.0, 0.5, 2.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN, f32::MIN_POSITIVE];
+        let random = (0..200_000).map(|_| f32::from_bits(rng.next()));
+        let near_one = (0..10_000).map(|k| f32::from_bits(0x3f80_0000 - k));
+        for z in specials.into_iter().chain(random).chain(near_one) {
+            let expected = crate::math::to_i32(z * (1u32 << 30) as f32).clamp(0, 1 << 30);
+            assert_eq!(depth30_truncated(z), expected, "{z} ({:#x})", z.to_bits());
+        }
     }
 }

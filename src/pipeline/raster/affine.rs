@@ -6,10 +6,10 @@
 
 use super::perspective::{leading_zeros, mul_i32, mul_u32, mul_u32_small, reciprocal};
 use super::Edge;
-use crate::fixed::DEPTH40_ONE;
+use crate::fixed::{depth30_truncated, DEPTH40_ONE};
 use crate::fixed::{fdot8_floor, fdot8_round, FDot16, FDot8};
 use crate::math::{
-    at_least_power_of_two, mul_wide, shl_i64, shr_i64, times_16, times_power_of_two, to_i32, wrapping_mul_small, F32,
+    at_least_power_of_two, mul_wide, shl_i64, shr_i64, times_16, times_power_of_two, wrapping_mul_small, F32,
 };
 
 /// Affine varyings: `v(x, y) = base + (origin + gx·x + gy·y) / 256` in pixels from the origin
@@ -133,7 +133,7 @@ pub(super) fn integer_depth_plane(v: [(i32, i32, f32); 3], area: u32, (ox, oy): 
     let inverse = AreaReciprocal::new(area);
     // Depth within 0..=1 (NaN gives 0, and anything else is clamped there): so the
     // differences fit i32.
-    let z = v.map(|(_, _, z)| to_i32(times_power_of_two(z, (1u32 << 30) as f32)).clamp(0, 1 << 30));
+    let z = v.map(|(_, _, z)| depth30_truncated(z));
     let [(ax, ay, _), (bx, by, _), (cx, cy, _)] = v;
     let (dz1, dz2) = (z[1] - z[0], z[2] - z[0]);
     // Coordinates within the guard band: differences below 2^15, so `mul_wide` holds them and
