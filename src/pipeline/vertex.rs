@@ -185,7 +185,7 @@ pub(crate) fn fill_cache<const L: usize>(
     // One loop per case, its tests made once: the loops keep more of the matrices in registers.
     let t = s.transforms();
     match &t.fixed {
-        Some(fixed) => fill_positions(s, cache, scale, |i| fixed_projected(ctx, s, fixed, i)),
+        Some(fixed) => fill_fixed_positions(ctx, s, fixed, cache, scale),
         None => {
             fill_positions(s, cache, scale, |i| Projected::new(ctx, t.mvp * s.arrays.position_stored(i).extend(1.0)))
         }
@@ -208,6 +208,19 @@ pub(crate) fn fill_cache<const L: usize>(
 #[inline(always)]
 pub(crate) fn is_filled(cache: &[TransformedVertex]) -> bool {
     cache.first().is_some_and(|v| v.inv_w.to_bits() != UNKNOWN_INV_W)
+}
+
+/// [`fill_cache`]'s positions with the integer transform. Out of line: its integer projection
+/// would otherwise share a frame (and registers) with the f32 loop beside it.
+#[inline(never)]
+fn fill_fixed_positions<const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_>,
+    fixed: &(FixedTransform, (Vec3, f32)),
+    cache: &mut [TransformedVertex],
+    scale: (f32, f32),
+) {
+    fill_positions(s, cache, scale, |i| fixed_projected(ctx, s, fixed, i));
 }
 
 /// [`fill_cache`]'s positions, with `projected` giving a vertex's projection.
