@@ -411,8 +411,23 @@ fn z_to_u16(z: u32) -> u16 {
 #[inline(always)]
 fn z_to_u16_wide(z: u32) -> u32 {
     debug_assert!(z <= 1 << 30);
-    // 2^30 (the far plane) saturates to 65535: one instruction (usat) on Cortex-M.
-    ((z as i32) >> 14).clamp(0, 0xffff) as u32
+    // 2^30 (the far plane) saturates to 65535: one instruction (usat) on Armv7-M; without it
+    // (Armv6-M, RISC-V), three: only 2^30 itself has bit 30 set.
+    #[cfg(not(soft_float))]
+    {
+        ((z as i32) >> 14).clamp(0, 0xffff) as u32
+    }
+    #[cfg(soft_float)]
+    {
+        z_to_u16_by_shifts(z)
+    }
+}
+
+/// [`z_to_u16_wide`] without a saturating instruction, for `z <= 2^30`.
+#[cfg(any(soft_float, test))]
+#[inline(always)]
+fn z_to_u16_by_shifts(z: u32) -> u32 {
+    (z >> 14) - (z >> 30)
 }
 
 #[inline(always)]
@@ -618,6 +633,15 @@ impl BandArea {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The depth conversion without a saturating instruction is the clamped one over `0..=2^30`.
+    #[test]
+    fn u16_depth_by_shifts_is_the_clamped_shift() {
+        let near_steps = (0..=1u32 << 16).flat_map(|k| [k << 14, (k << 14).saturating_sub(1), (k << 14) + 1]);
+        for z in near_steps.filter(|&z| z <= 1 << 30) {
+            assert_eq!(z_to_u16_by_shifts(z), ((z as i32) >> 14).clamp(0, 0xffff) as u32, "{z}");
+        }
+    }
 
     /// The block fill writes `value` to every entry of slices of every length and start
     /// (word-aligned or not, shorter than a block or not), and nothing beside them.

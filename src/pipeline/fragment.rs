@@ -189,9 +189,14 @@ fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
     }
     match lit {
         LitBy::White => {
-            // Opaque: the span loop loads the two (one `ldrd`) instead of building each from
-            // two halves at every pixel, as it would with them in sight.
+            // Opaque on Armv7-M: the span loop loads the two (one `ldrd`) instead of building
+            // each from two halves at every pixel, as it would with them in sight. Without an
+            // FPU (Armv6-M, RISC-V) in sight: each is one literal load there, where the opaque
+            // pair costs a load of its address and one of each.
+            #[cfg(not(soft_float))]
             let white = White(core::hint::black_box([SPREAD565, SPREAD565_HALF]));
+            #[cfg(soft_float)]
+            let white = White([SPREAD565, SPREAD565_HALF]);
             with_dither!(VertexLit::WHITE_LEN, &white)
         }
         LitBy::Vertex => with_dither!(VertexLit::COLOR_LEN, &Interpolated),
