@@ -286,26 +286,22 @@ impl TransformedVertex {
         outcode: 0,
     };
 
-    /// The entry of a vertex projected to `p` with texel coordinates `texel` (f32, see
-    /// `vertex::texel`), not lit yet ([`Self::set_light`]). Without `NEEDS_CLIP`, the entry
-    /// vouches for what the front end would otherwise test per triangle: any three such corners
-    /// are [`in_guard_band`](super::raster::in_guard_band) (each within half its extent of 0)
-    /// and have positive finite `1/w`s.
+    /// The entry of a vertex projected to `p` with texel coordinates `texel` (16.16, and
+    /// whether they were finite: see `vertex::cached_texel`), not lit yet ([`Self::set_light`]).
+    /// Without `NEEDS_CLIP`, the entry vouches for what the front end would otherwise test per
+    /// triangle: any three such corners are [`in_guard_band`](super::raster::in_guard_band)
+    /// (each within half its extent of 0) and have positive finite `1/w`s.
     #[inline(always)]
-    pub(crate) fn new(p: Projected, texel: [f32; 2]) -> Self {
+    pub(crate) fn new(p: Projected, (texel, texel_finite): ([FDot16; 2], bool)) -> Self {
         let near = |c: FDot4| c.unsigned_abs() < CACHED_COORD;
         // `&`, not `&&`: no branches.
-        let fits = near(p.x)
-            & near(p.y)
-            & crate::math::is_positive_finite(p.inv_w)
-            & texel[0].is_finite()
-            & texel[1].is_finite();
+        let fits = near(p.x) & near(p.y) & crate::math::is_positive_finite(p.inv_w) & texel_finite;
         TransformedVertex {
             // Within `CACHED_COORD` < 2^15 when `fits` (else unused): the casts are exact.
             xy: [p.x as i16, p.y as i16],
             z: p.z,
             inv_w: p.inv_w,
-            texel: texel.map(crate::math::to_i32),
+            texel,
             light: [0; 3],
             specular: 0,
             outcode: p.outcode | if fits { 0 } else { NEEDS_CLIP },

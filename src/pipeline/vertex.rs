@@ -232,7 +232,7 @@ fn fill_positions(
     projected: impl Fn(u32) -> Projected,
 ) {
     for (i, v) in (0u32..).zip(cache.iter_mut()) {
-        *v = TransformedVertex::new(projected(i), texel(s, i, scale));
+        *v = TransformedVertex::new(projected(i), cached_texel(s, i, scale));
     }
 }
 
@@ -327,6 +327,26 @@ pub(crate) fn texel(s: &DrawSetup<'_>, i: u32, (width, height): (f32, f32)) -> [
     // size, the usual texture).
     let at = |k: usize, size: f32| times_power_of_two(offset_add(o[k], u16_times(uv[k], sc[k])), size);
     [at(0, width), at(1, height)]
+}
+
+/// Vertex `i`'s texel coordinates as the cache keeps them: [`texel`] converted to 16.16
+/// (saturating), and whether both were finite. Without an FPU, in one integer step where the
+/// offset is +0 (the usual case) and the size a power of two ([`u16_times_to_i32`]: the same
+/// integers).
+#[inline(always)]
+fn cached_texel(s: &DrawSetup<'_>, i: u32, scale: (f32, f32)) -> ([FDot16; 2], bool) {
+    #[cfg(soft_float)]
+    {
+        let (uv, (o, sc)) = (s.arrays.uv_q(i), s.uv);
+        let at = |k: usize, size: f32| {
+            (o[k].to_bits() == 0).then(|| crate::math::u16_times_to_i32(uv[k], sc[k], size)).flatten()
+        };
+        if let (Some(u), Some(v)) = (at(0, scale.0), at(1, scale.1)) {
+            return ([u, v], true);
+        }
+    }
+    let t = texel(s, i, scale);
+    (t.map(crate::math::to_i32), t[0].is_finite() & t[1].is_finite())
 }
 
 /// One light channel times the vertex colour's channel `c` (255 for 1).
