@@ -78,14 +78,20 @@ pub fn u16_times_to_i32(n: u16, b: f32, m: f32) -> Option<i32> {
     if n == 0 {
         return Some(0);
     }
-    // `n · significand` below 2^40, as `high · 2^16 + low`.
+    // `n · significand` below 2^40, as `upper · 2^32 + lower`, in 32-bit halves (a 64-bit
+    // shift by a variable amount is a library call on Armv6-M).
     let significand = (bb & 0x7f_ffff) | 1 << 23;
     let (high, low) = (u32::from(n) * (significand >> 16), u32::from(n) * (significand & 0xffff));
-    let product = (u64::from(high) << 16) + u64::from(low);
-    // The bits below the float's 24 (as many as `top`'s).
-    let top = (product >> 24) as u32;
+    let lower = low.wrapping_add(high << 16);
+    let upper = (high >> 16) + u32::from(lower < low);
+    // The bits below the float's 24 (as many as the product has above 2^24).
+    let top = (upper << 8) | (lower >> 24);
     let dropped = if top == 0 { 0 } else { 32 - super::leading_zeros_by_table(top) };
-    let (mut kept, rest) = ((product >> dropped) as u32, product as u32 & ((1u32 << dropped) - 1));
+    let (mut kept, rest) = if dropped == 0 {
+        (lower, 0)
+    } else {
+        ((lower >> dropped) | (upper << (32 - dropped)), lower & ((1 << dropped) - 1))
+    };
     let half = (1u32 << dropped) >> 1;
     if dropped > 0 && (rest > half || (rest == half && kept & 1 != 0)) {
         kept += 1;
