@@ -204,8 +204,37 @@ pub(super) fn weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2]
 /// each (8 units of 2^-16 in all, far below a texel or a step of light).
 #[inline(always)]
 pub(super) fn interpolate(v0: i32, d1: i32, d2: i32, [w1, w2]: [i32; 2]) -> i32 {
-    let high = |d: i32, w: i32| (mul_i32(d, w) >> 32) as i32;
-    v0.wrapping_add(high(d1, w1).wrapping_add(high(d2, w2)) << (32 - WEIGHT_BITS))
+    v0.wrapping_add(weighted(d1, w1).wrapping_add(weighted(d2, w2)) << (32 - WEIGHT_BITS))
+}
+
+/// The upper half of `d · w` for a weight `w` in `0..=2^30` (see [`weights`]): without a
+/// widening multiply (see [`mul_u32`]), from four 16-bit products in 32-bit sums (no 64-bit
+/// additions).
+#[inline(always)]
+fn weighted(d: i32, w: i32) -> i32 {
+    debug_assert!((0..=1 << WEIGHT_BITS).contains(&w));
+    #[cfg(no_hw_divide)]
+    {
+        weighted_halves(d, w)
+    }
+    #[cfg(not(no_hw_divide))]
+    {
+        (mul_i32(d, w) >> 32) as i32
+    }
+}
+
+/// [`weighted`] from halves: `d = dh·2^16 + dl` (`dh` signed), `w = wh·2^16 + wl` (`wh` at most
+/// 2^14), so `d · w = dh·wh·2^32 + (dh·wl + dl·wh)·2^16 + dl·wl`, each partial sum below within
+/// i32 or u32 where it is formed, and the floors of the divisions by 2^16 carry exactly.
+#[cfg(any(no_hw_divide, test))]
+#[inline(always)]
+fn weighted_halves(d: i32, w: i32) -> i32 {
+    let (dh, dl, wh, wl) = (d >> 16, (d & 0xffff) as u32, w >> 16, (w & 0xffff) as u32);
+    // `|dh·wl| <= 2^15·(2^16 - 1)`, plus `dl·wl / 2^16 < 2^16`: within i32.
+    let m1 = dh * wl as i32 + ((dl * wl) >> 16) as i32;
+    // `dl·wh < 2^30`, plus the low half of `m1`: within i32.
+    let m2 = (dl * wh as u32) as i32 + (m1 & 0xffff);
+    dh * wh + (m1 >> 16) + (m2 >> 16)
 }
 
 /// Whether `range · (1/q_min - 1) <= four_tolerance` for the smallest of a triangle's `1/w`s,
@@ -252,6 +281,18 @@ pub(super) mod tests {
 
     /// The products from 16-bit halves are the full products, at the extremes and for random
     /// factors of every size.
+    /// The weighted product from halves is the 64-bit product's upper half.
+    #[test]
+    fn weighted_halves_is_the_upper_half() {
+        let mut rng = Lcg(0x51f1_5eed);
+        let edges = [0, 1, -1, 0xffff, -0x1_0000, 0x7fff_ffff, i32::MIN, 0x1234_5678];
+        for k in 0..1_000_000 {
+            let d = if k % 5 == 0 { edges[k % edges.len()] } else { rng.next() as i32 };
+            let w = if k % 7 == 0 { [0, 1, 0xffff, 1 << 30][k % 4] } else { rng.below((1 << 30) + 1) as i32 };
+            assert_eq!(weighted_halves(d, w), ((i64::from(d) * i64::from(w)) >> 32) as i32, "{d} * {w}");
+        }
+    }
+
     #[test]
     fn products_from_halves_are_exact() {
         let mut rng = Lcg(0x3c6e_f372_fe94_f82b);
