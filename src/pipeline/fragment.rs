@@ -5,7 +5,7 @@
 //! does).
 
 use super::primitive::Surface;
-use super::raster::{facing_of, Corner, CoveredBox, Reject, ScreenVertex, Setup, Window};
+use super::raster::{facing_of, Corner, CoveredBox, Reject, ScreenVertex, Setup};
 use super::scratch::TransformedVertex;
 use super::span::{AnyCells, Base, Diffuse, RunCells, Shader, U16Cells};
 use super::varyings::{is_texel_coordinate, PixelLit, VertexLit};
@@ -78,7 +78,7 @@ impl Lighting for Specular {
     }
 }
 
-impl<const L: usize> Lighting for PixelLights<L> {
+impl<const L: usize> Lighting for &PixelLights<L> {
     #[inline(always)]
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
         let (normal, position) = PixelLit::normal_and_position(v);
@@ -126,8 +126,14 @@ impl Corners<'_> {
     }
 }
 
-/// Rasterizes one screen triangle, choosing the monomorphised inner loop once per triangle so
-/// the per-pixel loop never branches on modes.
+/// One shader variant's fill of a triangle: [`fragments`] monomorphised for a base, a lighting
+/// (with its number of varyings) and dithering, chosen by [`variant`] once per surface where the
+/// surface decides the lighting, else once per triangle; what [`fill_as`] calls.
+pub(crate) type Variant<C, D, const L: usize> =
+    fn(&mut Band<'_, C, D>, &Context<'_, L>, Corners<'_>, Winding, &Surface<'_, '_>, &mut Stats) -> Result<(), Reject>;
+
+/// Rasterizes one screen triangle with the variant its surface and corners choose (see
+/// [`variant`]), so that the per-pixel loop never branches on modes.
 pub(crate) fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
@@ -136,19 +142,162 @@ pub(crate) fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) {
-    let (material, sampler) = (surface.material, surface.sampler);
-    let winding = Winding { cull_back: material.cull_back_faces, flip: surface.flip, area };
-    let r = match (sampler, surface.fast) {
-        (_, Some(fast)) => fill_with(band, ctx, (winding, surface.lit), tri, &fast, stats),
-        (Some(t), None) => fill_with(band, ctx, (winding, surface.lit), tri, t, stats),
-        (None, _) => {
-            let diffuse = Diffuse([material.rgba[0], material.rgba[1], material.rgba[2]]);
-            fill_with(band, ctx, (winding, surface.lit), tri, &diffuse, stats)
-        }
-    };
-    match r {
+    debug_assert!(surface.lit != Some(LitBy::White) || tri.white(), "a white surface's corner is not white");
+    let lit = surface.lit.unwrap_or_else(|| if tri.white() { LitBy::White } else { LitBy::Vertex });
+    fill_as(variant(ctx, surface, lit), band, ctx, tri, area, surface, stats);
+}
+
+/// [`fill`] with the variant `fill` already chosen (for a surface that decides its lighting,
+/// once for all its triangles: see [`variant`]).
+#[inline(always)]
+pub(crate) fn fill_as<C: FrameColor, D: DepthBuffer, const L: usize>(
+    fill: Variant<C, D, L>,
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    tri: Corners<'_>,
+    area: Option<i32>,
+    surface: &Surface<'_, '_>,
+    stats: &mut Stats,
+) {
+    let winding = Winding { cull_back: surface.material.cull_back_faces, flip: surface.flip, area };
+    match fill(band, ctx, tri, winding, surface, stats) {
         Ok(()) => stats.drawn += 1,
         Err(r) => stats.count_reject(r),
+    }
+}
+
+/// The variant that fills a triangle of `surface` lit `lit` (see [`LitBy::of_surface`]): its
+/// base (the fast texture, the sampler, or the material's colour), lighting and dithering.
+pub(crate) fn variant<C: FrameColor, D: DepthBuffer, const L: usize>(
+    ctx: &Context<'_, L>,
+    surface: &Surface<'_, '_>,
+    lit: LitBy,
+) -> Variant<C, D, L> {
+    // Formats that ignore the position take the plain path (the same pixels).
+    let dither = ctx.opts.dither && C::DITHERS;
+    // One monomorphised loop per base, lighting (with its number of varyings) and dithering.
+    macro_rules! with_lighting {
+        ($base:ty) => {
+            match (lit, dither) {
+                (LitBy::White, false) => fragments::<C, D, $base, WhiteLight, L, { VertexLit::WHITE_LEN }, false>,
+                (LitBy::White, true) => fragments::<C, D, $base, WhiteLight, L, { VertexLit::WHITE_LEN }, true>,
+                (LitBy::Vertex, false) => fragments::<C, D, $base, Interpolated, L, { VertexLit::COLOR_LEN }, false>,
+                (LitBy::Vertex, true) => fragments::<C, D, $base, Interpolated, L, { VertexLit::COLOR_LEN }, true>,
+                (LitBy::VertexAndSpecular, false) => {
+                    fragments::<C, D, $base, Specular, L, { VertexLit::SPECULAR_LEN }, false>
+                }
+                (LitBy::VertexAndSpecular, true) => {
+                    fragments::<C, D, $base, Specular, L, { VertexLit::SPECULAR_LEN }, true>
+                }
+                (LitBy::Pixel, false) => fragments::<C, D, $base, PerPixel, L, { PixelLit::LEN }, false>,
+                (LitBy::Pixel, true) => fragments::<C, D, $base, PerPixel, L, { PixelLit::LEN }, true>,
+            }
+        };
+    }
+    match (surface.fast.is_some(), surface.sampler.is_some()) {
+        (true, _) => with_lighting!(FastTexture),
+        (false, true) => with_lighting!(SampledTexture),
+        (false, false) => with_lighting!(MaterialColor),
+    }
+}
+
+/// Where a variant's base comes from: which [`Base`] a surface gives it (by reference: a copy
+/// a triangle is a `memcpy` call on some targets).
+trait BaseOf {
+    /// The base, borrowing the model for `'m`.
+    type Base<'m>: Base;
+    /// The base of `surface`, `None` when it has none of this kind (never, for the variant
+    /// [`variant`] picks for it).
+    fn of<'a, 'm>(surface: &'a Surface<'a, 'm>) -> Option<&'a Self::Base<'m>>;
+}
+
+/// The surface's texture in its fast form ([`Surface::fast`]).
+struct FastTexture;
+
+impl BaseOf for FastTexture {
+    type Base<'m> = crate::texture::Repeat565<'m>;
+    #[inline(always)]
+    fn of<'a, 'm>(surface: &'a Surface<'a, 'm>) -> Option<&'a Self::Base<'m>> {
+        surface.fast.as_ref()
+    }
+}
+
+/// The surface's texture through its sampler.
+struct SampledTexture;
+
+impl BaseOf for SampledTexture {
+    type Base<'m> = crate::texture::Sampler<'m>;
+    #[inline(always)]
+    fn of<'a, 'm>(surface: &'a Surface<'a, 'm>) -> Option<&'a Self::Base<'m>> {
+        surface.sampler
+    }
+}
+
+/// The material's diffuse colour ([`Surface::color`]).
+struct MaterialColor;
+
+impl BaseOf for MaterialColor {
+    type Base<'m> = Diffuse;
+    #[inline(always)]
+    fn of<'a, 'm>(surface: &'a Surface<'a, 'm>) -> Option<&'a Diffuse> {
+        Some(&surface.color)
+    }
+}
+
+/// Where a variant's [`Lighting`] comes from: what the draw's context gives it.
+trait LightOf<const L: usize> {
+    /// The lighting, borrowing the context for `'c`.
+    type Lighting<'c>: Lighting;
+    /// The tolerance of varyings other than texture coordinates (see
+    /// [`LitBy::affine_tolerance_light`]).
+    const TOLERANCE: u32 = 1 << 8;
+    /// The lighting of `ctx`'s triangles.
+    fn of<'c>(ctx: &'c Context<'_, L>) -> Self::Lighting<'c>;
+}
+
+/// [`White`].
+struct WhiteLight;
+
+impl<const L: usize> LightOf<L> for WhiteLight {
+    type Lighting<'c> = White;
+    #[inline(always)]
+    fn of<'c>(_: &'c Context<'_, L>) -> White {
+        // Opaque on Armv7-M: the span loop loads the two (one `ldrd`) instead of building
+        // each from two halves at every pixel, as it would with them in sight. Without an
+        // FPU (Armv6-M, RISC-V) in sight: each is one literal load there, where the opaque
+        // pair costs a load of its address and one of each.
+        #[cfg(not(soft_float))]
+        return White(core::hint::black_box([SPREAD565, SPREAD565_HALF]));
+        #[cfg(soft_float)]
+        return White([SPREAD565, SPREAD565_HALF]);
+    }
+}
+
+impl<const L: usize> LightOf<L> for Interpolated {
+    type Lighting<'c> = Interpolated;
+    #[inline(always)]
+    fn of<'c>(_: &'c Context<'_, L>) -> Interpolated {
+        Interpolated
+    }
+}
+
+impl<const L: usize> LightOf<L> for Specular {
+    type Lighting<'c> = Specular;
+    #[inline(always)]
+    fn of<'c>(ctx: &'c Context<'_, L>) -> Specular {
+        Specular(ctx.specular)
+    }
+}
+
+/// Phong: the context's [`PixelLights`].
+struct PerPixel;
+
+impl<const L: usize> LightOf<L> for PerPixel {
+    type Lighting<'c> = &'c PixelLights<L>;
+    const TOLERANCE: u32 = 1 << 4;
+    #[inline(always)]
+    fn of<'c>(ctx: &'c Context<'_, L>) -> &'c PixelLights<L> {
+        &ctx.pixel_lights
     }
 }
 
@@ -156,53 +305,10 @@ pub(crate) fn fill<C: FrameColor, D: DepthBuffer, const L: usize>(
 /// the draw's transform mirrors, and the area [`facing`](super::raster::facing) already gave
 /// for these very positions, when known.
 #[derive(Clone, Copy)]
-struct Winding {
+pub(crate) struct Winding {
     cull_back: bool,
     flip: bool,
     area: Option<i32>,
-}
-
-/// [`fill`] for one base colour source: picks the lighting and dithering variant. `lit`: the
-/// lighting when the surface decides it (see [`LitBy::of_surface`]).
-fn fill_with<C: FrameColor, D: DepthBuffer, B: Base, const L: usize>(
-    band: &mut Band<'_, C, D>,
-    ctx: &Context<'_, L>,
-    (winding, lit): (Winding, Option<LitBy>),
-    tri: Corners<'_>,
-    base: &B,
-    stats: &mut Stats,
-) -> Result<(), Reject> {
-    debug_assert!(lit != Some(LitBy::White) || tri.white(), "a white surface's corner is not white");
-    let lit = lit.unwrap_or_else(|| if tri.white() { LitBy::White } else { LitBy::Vertex });
-    let (specular, pl) = (ctx.specular, &ctx.pixel_lights);
-    let raster = (&ctx.window, ctx.opts.subspan, lit.affine_tolerance_light(), !ctx.opts.fixed_vertices);
-    // One monomorphised loop per lighting (with its number of varyings) and dithering.
-    macro_rules! with_dither {
-        ($varyings:expr, $lighting:expr) => {{
-            // Formats that ignore the position take the plain path (the same pixels).
-            if ctx.opts.dither && C::DITHERS {
-                fragments::<_, _, _, _, { $varyings }, true>(band, raster, tri, winding, base, $lighting, stats)
-            } else {
-                fragments::<_, _, _, _, { $varyings }, false>(band, raster, tri, winding, base, $lighting, stats)
-            }
-        }};
-    }
-    match lit {
-        LitBy::White => {
-            // Opaque on Armv7-M: the span loop loads the two (one `ldrd`) instead of building
-            // each from two halves at every pixel, as it would with them in sight. Without an
-            // FPU (Armv6-M, RISC-V) in sight: each is one literal load there, where the opaque
-            // pair costs a load of its address and one of each.
-            #[cfg(not(soft_float))]
-            let white = White(core::hint::black_box([SPREAD565, SPREAD565_HALF]));
-            #[cfg(soft_float)]
-            let white = White([SPREAD565, SPREAD565_HALF]);
-            with_dither!(VertexLit::WHITE_LEN, &white)
-        }
-        LitBy::Vertex => with_dither!(VertexLit::COLOR_LEN, &Interpolated),
-        LitBy::VertexAndSpecular => with_dither!(VertexLit::SPECULAR_LEN, &Specular(specular)),
-        LitBy::Pixel => with_dither!(PixelLit::LEN, pl),
-    }
 }
 
 /// Which [`Lighting`] a triangle uses (and so how many varyings it interpolates).
@@ -232,17 +338,6 @@ impl LitBy {
             white.then_some(LitBy::White)
         }
     }
-
-    /// How far affine varyings other than texture coordinates may be from perspective-correct
-    /// ones (see `Setup::allow_affine`): 1/256 for light (an 8-bit step; a quarter of RGB565's
-    /// finest); 1/4096 for Phong's normals and positions, as per-pixel lighting magnifies
-    /// their errors.
-    fn affine_tolerance_light(self) -> u32 {
-        match self {
-            LitBy::Pixel => 1 << 4,
-            _ => 1 << 8,
-        }
-    }
 }
 
 /// The tolerances of all `V` varyings: 1/16 texel for texture coordinates, `other` for the rest.
@@ -252,17 +347,24 @@ fn affine_tolerance<const V: usize>(other: u32) -> [u32; V] {
 
 // Not inlined: each variant's `Setup` gets its own frame instead of all of them sharing (and
 // enlarging) the caller's. The corners are built here, in the variant's own form, for the same
-// reason (in `fill_with`'s frame they would all be there at once).
+// reason (in the caller's frame they would all be there at once).
 #[inline(never)]
-fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
+fn fragments<C, D, K, Lk, const L: usize, const V: usize, const DITHER: bool>(
     band: &mut Band<'_, C, D>,
-    (window, subspan, tolerance, fpu): (&Window, u32, u32, bool),
+    ctx: &Context<'_, L>,
     tri: Corners<'_>,
     winding: Winding,
-    base: &B,
-    lighting: &Lt,
+    surface: &Surface<'_, '_>,
     stats: &mut Stats,
-) -> Result<(), Reject> {
+) -> Result<(), Reject>
+where
+    C: FrameColor,
+    D: DepthBuffer,
+    K: BaseOf,
+    Lk: LightOf<L>,
+{
+    let (base, lighting) = (K::of(surface).ok_or(Reject::Empty)?, &Lk::of(ctx));
+    let (window, subspan, fpu) = (&ctx.window, ctx.opts.subspan, !ctx.opts.fixed_vertices);
     let tri = &tri.corners::<V>();
     let area = match winding.area {
         Some(area) => area,
@@ -270,11 +372,11 @@ fn fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usiz
     };
     let bbox = CoveredBox::of(tri, window).ok_or(Reject::Empty)?;
     let mut setup = Setup::<V>::in_box(tri, &bbox, area, fpu);
-    let tolerance = affine_tolerance::<V>(tolerance);
+    let tolerance = affine_tolerance::<V>(Lk::TOLERANCE);
     let (area, pixels, color) = (band.area(), band.color.len(), &mut *band.color);
     macro_rules! shader {
         ($depth:expr) => {
-            Shader::<C, _, B, Lt, DITHER> {
+            Shader::<C, _, _, _, DITHER> {
                 area,
                 color,
                 depth: $depth,

@@ -547,7 +547,8 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         let sampler = ctx.sampler(model, mesh, &material);
         let surface = Surface::new(&material, sampler.as_ref(), ctx, &setup);
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
-        let mut draw = |t, stats: &mut Stats| draw_triangle(band, ctx, &setup, t, &surface, stats);
+        let variant = surface.lit.map(|lit| fragment::variant(ctx, &surface, lit));
+        let mut draw = |t, stats: &mut Stats| draw_triangle(band, ctx, &setup, t, (&surface, variant), stats);
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
             Some(seen) => {
                 let band_rows = (ctx.window.row_start, ctx.window.row_end);

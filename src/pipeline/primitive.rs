@@ -6,10 +6,11 @@
 use super::clip::{
     classify, cut, finite_varyings, ClipResult, ClipVertex, Polygon, MAX_CLIPPED, NEEDS_CLIP, NOT_FINITE,
 };
-use super::fragment::{fill, Corners, LitBy};
+use super::fragment::{fill, fill_as, Corners, LitBy, Variant};
 use super::line::{line, plot};
 use super::raster::{area_in_guard_band, facing, facing_in_guard_band, in_guard_band, Reject, ScreenVertex};
 use super::scratch::{TransformedVertex, TriangleRows};
+use super::span::Diffuse;
 use super::varyings::{PixelLit, VertexLit};
 use super::vertex::{
     cached_corners, clip_position, coloured_light, corner_lights, flat_corner_lights, project, projected, texel,
@@ -30,6 +31,8 @@ pub(crate) struct Surface<'a, 'm> {
     pub(crate) sampler: Option<&'a Sampler<'m>>,
     /// The same texture's fast form, when it has one ([`Repeat565::new`]).
     pub(crate) fast: Option<Repeat565<'m>>,
+    /// The material's diffuse colour, the base of untextured triangles.
+    pub(crate) color: Diffuse,
     /// The draw's transform mirrors (negative determinant): front faces wind the other way.
     pub(crate) flip: bool,
     /// The lighting of all its triangles when the surface decides it (see
@@ -47,19 +50,29 @@ impl<'a, 'm> Surface<'a, 'm> {
     ) -> Self {
         let white = ctx.grey_light && !s.arrays.has_colors();
         let lit = LitBy::of_surface(ctx, white);
-        Surface { material, sampler, fast: sampler.and_then(Repeat565::new), flip: s.flip, lit }
+        let [r, g, b, _] = material.rgba;
+        Surface {
+            material,
+            sampler,
+            fast: sampler.and_then(Repeat565::new),
+            color: Diffuse([r, g, b]),
+            flip: s.flip,
+            lit,
+        }
     }
 }
 
 /// Draws triangle `t` and returns the rows it can touch (for [`Scratch`](super::Scratch)).
-/// `learnt`: its rows when an earlier band of this frame learnt them (see [`Learnt`]).
+/// `learnt`: its rows when an earlier band of this frame learnt them (see [`Learnt`]);
+/// `variant`: the fill of every triangle of `surface`, when the surface decides it (see
+/// [`fragment::variant`](super::fragment::variant)).
 #[inline(always)]
 pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_>,
     (t, learnt): (u32, Option<Learnt>),
-    surface: &Surface<'_, '_>,
+    (surface, variant): (&Surface<'_, '_>, Option<Variant<C, D, L>>),
     stats: &mut Stats,
 ) -> TriangleRows {
     match front_end(ctx, s, (t, learnt), surface, stats) {
@@ -67,7 +80,11 @@ pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
         // The common case, straight to the fill from the vertex cache.
         Front::Cached(p, area, rows) => {
             let flat = (ctx.opts.shading == Shading::Flat).then(|| flat_corner_lights(ctx, s, &s.arrays.triangle(t)));
-            fill(band, ctx, Corners::Cached(&p, flat.as_ref()), Some(area), surface, stats);
+            let tri = Corners::Cached(&p, flat.as_ref());
+            match variant {
+                Some(variant) => fill_as(variant, band, ctx, tri, Some(area), surface, stats),
+                None => fill(band, ctx, tri, Some(area), surface, stats),
+            }
             rows
         }
         Front::Other => draw_other(band, ctx, s, t, surface, stats),

@@ -56,7 +56,7 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
         let material = sub.and_then(|s| s.material).and_then(|m| model.material(m)).unwrap_or_default();
         let sampler = ctx.sampler(model, &setup.mesh, &material);
         let surface = Surface::new(&material, sampler.as_ref(), ctx, setup);
-        let _ = draw_triangle(band, ctx, setup, (e.triangle, None), &surface, &mut stats);
+        let _ = draw_triangle(band, ctx, setup, (e.triangle, None), (&surface, None), &mut stats);
     }
     Ok(stats)
 }
