@@ -261,7 +261,7 @@ struct WhiteLight;
 impl<const L: usize> LightOf<L> for WhiteLight {
     type Lighting<'c> = White;
     #[inline(always)]
-    fn of<'c>(_: &'c Context<'_, L>) -> White {
+    fn of(_: &Context<'_, L>) -> White {
         // Opaque on Armv7-M: the span loop loads the two (one `ldrd`) instead of building
         // each from two halves at every pixel, as it would with them in sight. Without an
         // FPU (Armv6-M, RISC-V) in sight: each is one literal load there, where the opaque
@@ -276,7 +276,7 @@ impl<const L: usize> LightOf<L> for WhiteLight {
 impl<const L: usize> LightOf<L> for Interpolated {
     type Lighting<'c> = Interpolated;
     #[inline(always)]
-    fn of<'c>(_: &'c Context<'_, L>) -> Interpolated {
+    fn of(_: &Context<'_, L>) -> Interpolated {
         Interpolated
     }
 }
@@ -284,7 +284,7 @@ impl<const L: usize> LightOf<L> for Interpolated {
 impl<const L: usize> LightOf<L> for Specular {
     type Lighting<'c> = Specular;
     #[inline(always)]
-    fn of<'c>(ctx: &'c Context<'_, L>) -> Specular {
+    fn of(ctx: &Context<'_, L>) -> Specular {
         Specular(ctx.specular)
     }
 }
