@@ -18,7 +18,7 @@ mod soft;
 mod wide;
 
 #[cfg(soft_float)]
-pub(crate) use exact::u16_times_to_i32;
+pub(crate) use exact::U16Scale;
 pub use exact::{offset_add, times_16, times_power_of_two, u16_times};
 #[cfg(test)]
 use exact::{times_pow2_bits, zero_plus};

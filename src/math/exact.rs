@@ -65,47 +65,80 @@ pub fn u16_times(n: u16, b: f32) -> f32 {
 /// nearest, ties to even, as the float multiply rounds), scaled by `m`, truncated towards zero
 /// and saturated. For a normal `b` and a positive normal power of two `m`; `None` otherwise.
 /// Without an FPU it replaces a software multiply and a conversion (about 75 instructions)
-/// with a few integer operations.
-#[cfg(any(soft_float, test))]
-#[inline(always)]
+/// with a few integer operations. The pipeline uses [`U16Scale`], which takes `b` and `m` apart
+/// once for many `n`.
+#[cfg(test)]
 #[must_use]
 pub fn u16_times_to_i32(n: u16, b: f32, m: f32) -> Option<i32> {
-    let (bb, mb) = (b.to_bits(), m.to_bits());
-    let (eb, em) = (((bb >> 23) & 0xff) as i32, (mb >> 23) as i32);
-    if !(1..=254).contains(&eb) || mb & 0x7f_ffff != 0 || !(127..=254).contains(&em) {
-        return None;
+    U16Scale::new(b, m)?.times_to_i32(n)
+}
+
+/// The factors `b` and `m` of [`u16_times_to_i32`], taken apart once (a mesh's texel scale and
+/// texture size, the same for all its vertices).
+#[cfg(any(soft_float, test))]
+#[derive(Clone, Copy, Debug)]
+pub struct U16Scale {
+    /// `b`'s 24-bit significand, the implicit bit set.
+    significand: u32,
+    /// The power of two of the product's unit: `b`'s exponent less the significand's 23
+    /// fraction bits, plus `m`'s.
+    shift: i32,
+    /// `b` is negative.
+    negative: bool,
+}
+
+#[cfg(any(soft_float, test))]
+impl U16Scale {
+    /// `b` and `m` taken apart, when `b` is normal and `m` a positive normal power of two of at
+    /// least 1 (see [`u16_times_to_i32`]).
+    #[inline(always)]
+    #[must_use]
+    pub fn new(b: f32, m: f32) -> Option<Self> {
+        let (bb, mb) = (b.to_bits(), m.to_bits());
+        let (eb, em) = (((bb >> 23) & 0xff) as i32, (mb >> 23) as i32);
+        if !(1..=254).contains(&eb) || mb & 0x7f_ffff != 0 || !(127..=254).contains(&em) {
+            return None;
+        }
+        let significand = (bb & 0x7f_ffff) | 1 << 23;
+        Some(U16Scale { significand, shift: eb - 150 + em - 127, negative: bb >> 31 != 0 })
     }
-    if n == 0 {
-        return Some(0);
+
+    /// [`u16_times_to_i32`] of `n` and these factors.
+    #[inline(always)]
+    #[must_use]
+    pub fn times_to_i32(self, n: u16) -> Option<i32> {
+        let significand = self.significand;
+        if n == 0 {
+            return Some(0);
+        }
+        // `n · significand` below 2^40, as `upper · 2^32 + lower`, in 32-bit halves (a 64-bit
+        // shift by a variable amount is a library call on Armv6-M).
+        let (high, low) = (u32::from(n) * (significand >> 16), u32::from(n) * (significand & 0xffff));
+        let lower = low.wrapping_add(high << 16);
+        let upper = (high >> 16) + u32::from(lower < low);
+        // The bits below the float's 24 (as many as the product has above 2^24).
+        let top = (upper << 8) | (lower >> 24);
+        let dropped = if top == 0 { 0 } else { 32 - super::leading_zeros_by_table(top) };
+        let (mut kept, rest) = if dropped == 0 {
+            (lower, 0)
+        } else {
+            ((lower >> dropped) | (upper << (32 - dropped)), lower & ((1 << dropped) - 1))
+        };
+        let half = (1u32 << dropped) >> 1;
+        if dropped > 0 && (rest > half || (rest == half && kept & 1 != 0)) {
+            kept += 1;
+        }
+        // `kept · 2^(dropped + eb - 150 + em - 127)`, truncated.
+        let shift = dropped as i32 + self.shift;
+        let magnitude = match shift {
+            ..=-32 => 0,
+            -31..=0 => kept >> -shift,
+            // Below 2^31 only if `kept` is small enough; the float path saturates the rest.
+            1..=30 if kept >> (31 - shift) == 0 => kept << shift,
+            _ => return None,
+        };
+        Some(if self.negative { -(magnitude as i32) } else { magnitude as i32 })
     }
-    // `n · significand` below 2^40, as `upper · 2^32 + lower`, in 32-bit halves (a 64-bit
-    // shift by a variable amount is a library call on Armv6-M).
-    let significand = (bb & 0x7f_ffff) | 1 << 23;
-    let (high, low) = (u32::from(n) * (significand >> 16), u32::from(n) * (significand & 0xffff));
-    let lower = low.wrapping_add(high << 16);
-    let upper = (high >> 16) + u32::from(lower < low);
-    // The bits below the float's 24 (as many as the product has above 2^24).
-    let top = (upper << 8) | (lower >> 24);
-    let dropped = if top == 0 { 0 } else { 32 - super::leading_zeros_by_table(top) };
-    let (mut kept, rest) = if dropped == 0 {
-        (lower, 0)
-    } else {
-        ((lower >> dropped) | (upper << (32 - dropped)), lower & ((1 << dropped) - 1))
-    };
-    let half = (1u32 << dropped) >> 1;
-    if dropped > 0 && (rest > half || (rest == half && kept & 1 != 0)) {
-        kept += 1;
-    }
-    // `kept · 2^(dropped + eb - 150 + em - 127)`, truncated.
-    let shift = dropped as i32 + eb - 150 + em - 127;
-    let magnitude = match shift {
-        ..=-32 => 0,
-        -31..=0 => kept >> -shift,
-        // Below 2^31 only if `kept` is small enough; the float path saturates the rest.
-        1..=30 if kept >> (31 - shift) == 0 => kept << shift,
-        _ => return None,
-    };
-    Some(if bb >> 31 != 0 { -(magnitude as i32) } else { magnitude as i32 })
 }
 
 /// `+0 + b` from the bits: `b`, but for `b` = -0: +0 (round to nearest).

@@ -231,8 +231,9 @@ fn fill_positions(
     scale: (f32, f32),
     projected: impl Fn(u32) -> Projected,
 ) {
+    let texels = TexelConversion::new(s, scale);
     for (i, v) in (0u32..).zip(cache.iter_mut()) {
-        *v = TransformedVertex::new(projected(i), cached_texel(s, i, scale));
+        *v = TransformedVertex::new(projected(i), texels.cached(s, i));
     }
 }
 
@@ -329,24 +330,52 @@ pub(crate) fn texel(s: &DrawSetup<'_>, i: u32, (width, height): (f32, f32)) -> [
     [at(0, width), at(1, height)]
 }
 
-/// Vertex `i`'s texel coordinates as the cache keeps them: [`texel`] converted to 16.16
-/// (saturating), and whether both were finite. Without an FPU, in one integer step where the
-/// offset is +0 (the usual case) and the size a power of two ([`u16_times_to_i32`]: the same
-/// integers).
-#[inline(always)]
-fn cached_texel(s: &DrawSetup<'_>, i: u32, scale: (f32, f32)) -> ([FDot16; 2], bool) {
+/// How [`fill_positions`] converts a mesh's texel coordinates for the cache: with the texel
+/// scale (see [`texel_scale`]) and, without an FPU, the factors of the integer step taken
+/// apart once for all the mesh's vertices.
+#[derive(Clone, Copy)]
+struct TexelConversion {
+    scale: (f32, f32),
+    /// Where the offset is +0 (the usual case) and the sizes powers of two, the exact integer
+    /// step's factors for `u` and `v` ([`U16Scale`]: the same integers as the float path).
     #[cfg(soft_float)]
-    {
-        let (uv, (o, sc)) = (s.arrays.uv_q(i), s.uv);
-        let at = |k: usize, size: f32| {
-            (o[k].to_bits() == 0).then(|| crate::math::u16_times_to_i32(uv[k], sc[k], size)).flatten()
-        };
-        if let (Some(u), Some(v)) = (at(0, scale.0), at(1, scale.1)) {
-            return ([u, v], true);
+    exact: Option<[crate::math::U16Scale; 2]>,
+}
+
+impl TexelConversion {
+    /// The conversion of draw `s`'s texel coordinates with texel scale `scale`.
+    #[inline(always)]
+    fn new(s: &DrawSetup<'_>, scale: (f32, f32)) -> Self {
+        #[cfg(soft_float)]
+        {
+            let (o, sc) = s.uv;
+            let factors =
+                |k: usize, size: f32| (o[k].to_bits() == 0).then(|| crate::math::U16Scale::new(sc[k], size)).flatten();
+            let exact = factors(0, scale.0).zip(factors(1, scale.1)).map(|(u, v)| [u, v]);
+            TexelConversion { scale, exact }
+        }
+        #[cfg(not(soft_float))]
+        {
+            let _ = s;
+            TexelConversion { scale }
         }
     }
-    let t = texel(s, i, scale);
-    (t.map(crate::math::to_i32), t[0].is_finite() & t[1].is_finite())
+
+    /// Vertex `i`'s texel coordinates as the cache keeps them: [`texel`] converted to 16.16
+    /// (saturating), and whether both were finite; without an FPU, in one integer step where
+    /// [`TexelConversion::exact`] allows it.
+    #[inline(always)]
+    fn cached(&self, s: &DrawSetup<'_>, i: u32) -> ([FDot16; 2], bool) {
+        #[cfg(soft_float)]
+        if let Some([u, v]) = self.exact {
+            let uv = s.arrays.uv_q(i);
+            if let (Some(u), Some(v)) = (u.times_to_i32(uv[0]), v.times_to_i32(uv[1])) {
+                return ([u, v], true);
+            }
+        }
+        let t = texel(s, i, self.scale);
+        (t.map(crate::math::to_i32), t[0].is_finite() & t[1].is_finite())
+    }
 }
 
 /// One light channel times the vertex colour's channel `c` (255 for 1).
