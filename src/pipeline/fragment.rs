@@ -5,6 +5,8 @@
 //! does).
 
 use super::primitive::Surface;
+#[cfg(not(soft_float))]
+use super::raster::SMALL_BOX;
 use super::raster::{facing_of, Corner, CoveredBox, Reject, ScreenVertex, Setup};
 use super::scratch::TransformedVertex;
 use super::span::{AnyCells, Base, Diffuse, RunCells, Shader, U16Cells};
@@ -345,6 +347,43 @@ fn affine_tolerance<const V: usize>(other: u32) -> [u32; V] {
     core::array::from_fn(|k| if is_texel_coordinate(k) { 1 << 12 } else { other })
 }
 
+/// `$body` with `$shader` bound to `band`'s [`Shader`] for base `base` and lighting `lighting`
+/// (dithering: `dither`): its value; returns `Err(Reject::Empty)` from the function when a plain
+/// `u16` depth buffer is shorter than the band. Plain `u16` depths are indexed directly (their length checked here,
+/// once); any other buffer through its `cells`. A macro: the shader's type differs between the
+/// two, and `$body` is made for each.
+macro_rules! with_shader {
+    ($band:expr, $base:expr, $lighting:expr, $dither:ident, |$shader:ident| $body:expr) => {{
+        let band = $band;
+        let (area, pixels, color) = (band.area(), band.color.len(), &mut *band.color);
+        macro_rules! shader {
+            ($depth:expr) => {
+                Shader::<C, _, _, _, $dither> {
+                    area,
+                    color,
+                    depth: $depth,
+                    base: $base,
+                    v_shift: $base.v_shift(),
+                    lighting: $lighting,
+                    written: 0,
+                    rejected: 0,
+                    runs: 0,
+                }
+            };
+        }
+        match band.depth.as_u16() {
+            Some(values) => {
+                let $shader = shader!(U16Cells::new(values, pixels).ok_or(Reject::Empty)?);
+                $body
+            }
+            None => {
+                let $shader = shader!(AnyCells(&mut band.depth));
+                $body
+            }
+        }
+    }};
+}
+
 // Not inlined: each variant's `Setup` gets its own frame instead of all of them sharing (and
 // enlarging) the caller's. The corners are built here, in the variant's own form, for the same
 // reason (in the caller's frame they would all be there at once).
@@ -371,42 +410,47 @@ where
         None => facing_of(tri.each_ref().map(|c| (c.x, c.y, c.inv_w)), winding.cull_back, winding.flip)?,
     };
     let bbox = CoveredBox::of(tri, window).ok_or(Reject::Empty)?;
+    // Small triangles with f32 perspective pixel by pixel, where an FPU makes a pixel's exact
+    // varyings cheap (see `raster::small`).
+    #[cfg(not(soft_float))]
+    if fpu && bbox.frame_pixels() <= SMALL_BOX {
+        return small_fragments::<C, D, _, _, V, DITHER>(band, (tri, &bbox, area), (base, lighting), stats);
+    }
     let mut setup = Setup::<V>::in_box(tri, &bbox, area, fpu);
     let tolerance = affine_tolerance::<V>(Lk::TOLERANCE);
-    let (area, pixels, color) = (band.area(), band.color.len(), &mut *band.color);
-    macro_rules! shader {
-        ($depth:expr) => {
-            Shader::<C, _, _, _, DITHER> {
-                area,
-                color,
-                depth: $depth,
-                base,
-                v_shift: base.v_shift(),
-                lighting,
-                written: 0,
-                rejected: 0,
-                runs: 0,
-            }
-        };
-    }
-    // Plain `u16` depths are indexed directly (their length checked here, once); any other
-    // buffer through its `cells`.
-    let shader = match band.depth.as_u16() {
-        Some(values) => draw(
-            shader!(U16Cells::new(values, pixels).ok_or(Reject::Empty)?),
-            &mut setup,
-            z_of(tri),
-            subspan,
-            &tolerance,
-            fpu,
-        ),
-        None => draw(shader!(AnyCells(&mut band.depth)), &mut setup, z_of(tri), subspan, &tolerance, fpu),
-    };
-    // Saturating: a draw of many large triangles can write more than 2^32 pixels.
-    stats.pixels_written = stats.pixels_written.saturating_add(shader.0);
-    stats.depth_rejected = stats.depth_rejected.saturating_add(shader.1);
-    stats.runs = stats.runs.saturating_add(shader.2);
+    let z = z_of(tri);
+    count(
+        stats,
+        with_shader!(band, base, lighting, DITHER, |shader| draw(shader, &mut setup, z, subspan, &tolerance, fpu)),
+    );
     Ok(())
+}
+
+/// [`fragments`] for a small triangle (with f32 perspective, on targets with an FPU): its
+/// pixels one by one (see
+/// `Setup::for_each_pixel`), with no planes or row walks. Out of line: in the frame of the row
+/// walks and their span loops, its values would take their registers.
+#[cfg(not(soft_float))]
+#[inline(never)]
+fn small_fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
+    band: &mut Band<'_, C, D>,
+    (tri, bbox, area): (&[Corner<V>; 3], &CoveredBox, i32),
+    (base, lighting): (&B, &Lt),
+    stats: &mut Stats,
+) -> Result<(), Reject> {
+    let setup = Setup::<V>::in_box(tri, bbox, area, true);
+    let counts = with_shader!(band, base, lighting, DITHER, |shader| draw_pixels(shader, &setup));
+    count(stats, counts);
+    Ok(())
+}
+
+/// Adds a triangle's pixels written, depth-rejected and runs to `stats` (saturating: a draw of
+/// many large triangles can write more than 2^32 pixels).
+#[inline(always)]
+fn count(stats: &mut Stats, (written, rejected, runs): (u32, u32, u32)) {
+    stats.pixels_written = stats.pixels_written.saturating_add(written);
+    stats.depth_rejected = stats.depth_rejected.saturating_add(rejected);
+    stats.runs = stats.runs.saturating_add(runs);
 }
 
 /// The depths of a triangle's corners.
@@ -438,5 +482,18 @@ fn draw<C: FrameColor, R: RunCells, B: Base, Lt: Lighting, const V: usize, const
             None => setup.for_each_span(subspan, &mut shader),
         }
     }
+    (shader.written, shader.rejected, shader.runs)
+}
+
+/// Draws the pixels of a small triangle one by one (see `Setup::for_each_pixel`) with
+/// `shader`: the pixels written, depth-rejected, and the runs (one a pixel).
+#[cfg(not(soft_float))]
+#[inline(always)]
+fn draw_pixels<C: FrameColor, R: RunCells, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
+    mut shader: Shader<'_, '_, C, R, B, Lt, DITHER>,
+    setup: &Setup<V>,
+) -> (u32, u32, u32) {
+    let base = *shader.base;
+    setup.for_each_pixel(|x, y, z, v| shader.pixel(&base, (x, y), z, v));
     (shader.written, shader.rejected, shader.runs)
 }

@@ -26,7 +26,9 @@
 //!   linearly in between (`subspan = 1`: every pixel exact), or, within
 //!   a chosen tolerance ([`Setup::allow_affine`]), from one affine plane per varying (the whole
 //!   triangle) or exactly at the ends of runs as long as the tolerance allows (`subspan = 1`);
-//!   with an FPU, where a bound allows, in f32 at every pixel (see `pixel`).
+//!   with an FPU, where a bound allows, in f32 at every pixel (see `pixel`); with an FPU, for
+//!   triangles whose box holds at most `SMALL_BOX` pixel centres, exactly at every covered
+//!   pixel (see `small`).
 //! - Pixels reach the shader as runs ([`Span`]s): a run of pixels on one row with a first value
 //!   and a per-pixel step for depth and every varying, so the per-pixel loop only adds. The span
 //!   loop either walks the rows itself ([`Setup::walked_rows`], one run a row, no call) or gets
@@ -49,6 +51,8 @@ mod pixel;
 mod rows;
 #[cfg(test)]
 mod slivers;
+#[cfg(any(not(soft_float), test))]
+mod small;
 mod walk;
 use affine::AffinePlanes;
 pub(crate) use facing::{area_in_guard_band, facing_in_guard_band, facing_of, in_guard_band};
@@ -56,6 +60,8 @@ pub use facing::{facing, MAX_COORD, MAX_EXTENT};
 pub(crate) use perspective::{leading_zeros, mul_i32, mul_u32, reciprocal};
 use perspective::{Q_BITS, Q_MIN};
 pub(crate) use rows::{WalkedRow, WalkedRows};
+#[cfg(not(soft_float))]
+pub(crate) use small::SMALL_BOX;
 use walk::RowWalk;
 
 /// A vertex after projection: what the rasterizer needs.
@@ -227,6 +233,16 @@ pub(crate) struct CoveredBox {
 }
 
 impl CoveredBox {
+    /// Pixel centres in the box in the frame: its columns (clipped to the frame) times its rows
+    /// not clipped by the band, so that every band makes the same choice with it (see
+    /// `small::SMALL_BOX`).
+    #[cfg(any(not(soft_float), test))]
+    #[inline(always)]
+    pub(crate) fn frame_pixels(&self) -> u32 {
+        let rows = last_centre(self.max_y) - first_centre(self.min_y).max(0) + 1;
+        ((self.x1 - self.x0 + 1) as u32).saturating_mul(rows.max(0) as u32)
+    }
+
     /// The box of `tri` in `win`, `None` when it holds no pixel centre of the window.
     #[inline(always)]
     pub(crate) fn of<const V: usize>(tri: &[Corner<V>; 3], win: &Window) -> Option<Self> {

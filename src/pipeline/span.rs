@@ -253,6 +253,14 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         self.runs += 1;
     }
 
+    /// One pixel at frame pixel `(x, y)` with depth `z` and varyings `v`: a run of one, for the
+    /// small triangles drawn pixel by pixel (`Setup::for_each_pixel`).
+    #[cfg(not(soft_float))]
+    #[inline(always)]
+    pub(super) fn pixel<const V: usize>(&mut self, base: &B, (x, y): (i32, i32), z: Depth30, v: [FDot16; V]) {
+        self.run(base, (x, y, 1), (z, 0), Stepped(v, [0; V]));
+    }
+
     /// Draws a triangle's rows (see [`WalkedRows`]): the same pixels as the runs
     /// [`SpanSink::span`] gets, walked here so that the triangle's values stay at hand from
     /// row to row, with no call per run (but for exact rows cut into several runs).
