@@ -411,9 +411,10 @@ where
     };
     let bbox = CoveredBox::of(tri, window).ok_or(Reject::Empty)?;
     // Small triangles with f32 perspective pixel by pixel, where an FPU makes a pixel's exact
-    // varyings cheap (see `raster::small`).
+    // varyings cheap (see `raster::small`); for the variants whose span loop walks its rows
+    // (flash: one more copy of the span loop for each of those only).
     #[cfg(not(soft_float))]
-    if fpu && bbox.frame_pixels() <= SMALL_BOX {
+    if K::Base::WALK_ROWS && !DITHER && fpu && bbox.frame_pixels() <= SMALL_BOX {
         return small_fragments::<C, D, _, _, V, DITHER>(band, (tri, &bbox, area), (base, lighting), stats);
     }
     let mut setup = Setup::<V>::in_box(tri, &bbox, area, fpu);
