@@ -5,9 +5,9 @@
 //! does).
 
 use super::primitive::Surface;
-#[cfg(not(soft_float))]
-use super::raster::SMALL_BOX;
 use super::raster::{facing_of, Corner, CoveredBox, Reject, ScreenVertex, Setup};
+#[cfg(not(soft_float))]
+use super::raster::{SmallTriangle, SMALL_BOX};
 use super::scratch::TransformedVertex;
 use super::span::{AnyCells, Base, Diffuse, RunCells, Shader, U16Cells};
 use super::varyings::{is_texel_coordinate, PixelLit, VertexLit};
@@ -428,9 +428,8 @@ where
 }
 
 /// [`fragments`] for a small triangle (with f32 perspective, on targets with an FPU): its
-/// pixels one by one (see
-/// `Setup::for_each_pixel`), with no planes or row walks. Out of line: in the frame of the row
-/// walks and their span loops, its values would take their registers.
+/// pixels one by one (see [`SmallTriangle`]), with no planes or row walks. Out of line: in the
+/// frame of the row walks and their span loops, its values would take their registers.
 #[cfg(not(soft_float))]
 #[inline(never)]
 fn small_fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
@@ -439,8 +438,8 @@ fn small_fragments<C: FrameColor, D: DepthBuffer, B: Base, Lt: Lighting, const V
     (base, lighting): (&B, &Lt),
     stats: &mut Stats,
 ) -> Result<(), Reject> {
-    let setup = Setup::<V>::in_box(tri, bbox, area, true);
-    let counts = with_shader!(band, base, lighting, DITHER, |shader| draw_pixels(shader, &setup));
+    let small = SmallTriangle::<V>::new(tri, bbox, area);
+    let counts = with_shader!(band, base, lighting, DITHER, |shader| draw_pixels(shader, &small));
     count(stats, counts);
     Ok(())
 }
@@ -486,15 +485,15 @@ fn draw<C: FrameColor, R: RunCells, B: Base, Lt: Lighting, const V: usize, const
     (shader.written, shader.rejected, shader.runs)
 }
 
-/// Draws the pixels of a small triangle one by one (see `Setup::for_each_pixel`) with
+/// Draws the pixels of a small triangle one by one (see [`SmallTriangle::for_each_pixel`]) with
 /// `shader`: the pixels written, depth-rejected, and the runs (one a pixel).
 #[cfg(not(soft_float))]
 #[inline(always)]
 fn draw_pixels<C: FrameColor, R: RunCells, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     mut shader: Shader<'_, '_, C, R, B, Lt, DITHER>,
-    setup: &Setup<V>,
+    small: &SmallTriangle<V>,
 ) -> (u32, u32, u32) {
     let base = *shader.base;
-    setup.for_each_pixel(|x, y, z, v| shader.pixel(&base, (x, y), z, v));
+    small.for_each_pixel(|x, y, z, v| shader.pixel(&base, (x, y), z, v));
     (shader.written, shader.rejected, shader.runs)
 }

@@ -61,7 +61,7 @@ pub(crate) use perspective::{leading_zeros, mul_i32, mul_u32, reciprocal};
 use perspective::{Q_BITS, Q_MIN};
 pub(crate) use rows::{WalkedRow, WalkedRows};
 #[cfg(not(soft_float))]
-pub(crate) use small::SMALL_BOX;
+pub(crate) use small::{SmallTriangle, SMALL_BOX};
 use walk::RowWalk;
 
 /// A vertex after projection: what the rasterizer needs.
@@ -143,12 +143,59 @@ impl Edge {
     }
 }
 
+/// A triangle's corners in the set-up's order (reordered so that the inside is `E > 0`: positive
+/// image-space area, given as `area`), the origin pixel centre (28.4) and its frame row, and the
+/// edges from that origin. The origin is the first pixel centre of the box *in the frame*, not
+/// in the band, so that every interpolated value is the same whichever band draws the pixel.
+#[inline(always)]
+fn oriented<'t, const V: usize>(
+    tri: &'t [Corner<V>; 3],
+    bbox: &CoveredBox,
+    area: i32,
+) -> ([&'t Corner<V>; 3], (i32, i32), i32, [Edge; 3]) {
+    let [p0, p1, p2] = tri;
+    let (a, b, c) = if area > 0 { (p0, p1, p2) } else { (p0, p2, p1) };
+    let fy0 = first_centre(bbox.min_y).max(0);
+    let (ox, oy) = (bbox.x0 * 16 + 8, fy0 * 16 + 8);
+    let edges = [Edge::new(b, c, ox, oy), Edge::new(c, a, ox, oy), Edge::new(a, b, ox, oy)];
+    ([a, b, c], (ox, oy), fy0, edges)
+}
+
 /// The `1/w`s `inv_w` of a triangle's vertices (positive and finite) divided by the largest, in
 /// f32: that one exactly 1.
 #[inline(always)]
 fn normalised_inv_w(inv_w: [f32; 3]) -> [F32; 3] {
     let max_w = F32(max(max(inv_w[0], inv_w[1]), inv_w[2]));
     inv_w.map(|q| F32(q) / max_w)
+}
+
+/// Perspective-correct varyings in f32 where the edge functions are `e` (negative ones count as
+/// 0), for `1/w`s `inv_w` divided by the largest, varyings `v0` at vertex 0 and their
+/// differences `d1`, `d2` to vertices 1 and 2 (in f32): the weights `E_k · (1/w_k)` keep full relative
+/// precision however much the near vertex is magnified by a large depth ratio, and one division
+/// serves every varying. The sum comes back as its f32 bits (positive, so they order as the
+/// values do; 0 where every `E_k` is).
+#[inline(always)]
+fn f32_varyings<const V: usize>(
+    e: [i32; 3],
+    inv_w: &[F32; 3],
+    (v0, d1, d2): (&[FDot16; V], &[F32; V], &[F32; V]),
+) -> ([i32; V], u32) {
+    // Non-negative, so converted as unsigned (the same value, a shorter conversion).
+    let n = |k: usize| F32::from(e[k].max(0) as u32) * inv_w[k];
+    let (n1, n2) = (n(1), n(2));
+    let sum = n(0) + n1 + n2;
+    let mut out = *v0;
+    if sum <= F32(0.0) {
+        return (out, 0);
+    }
+    let inv = F32(1.0) / sum;
+    let (b1, b2) = (n1 * inv, n2 * inv);
+    for (k, o) in out.iter_mut().enumerate() {
+        let offset = d1[k] * b1 + d2[k] * b2;
+        *o = o.wrapping_add(offset.to_i32());
+    }
+    (out, sum.0.to_bits())
 }
 
 /// `floor(n / d)` for `d > 0`.
@@ -303,15 +350,8 @@ impl<const V: usize> Setup<V> {
     /// place, not moved out of a `Result`).
     #[inline(always)]
     pub(crate) fn in_box(tri: &[Corner<V>; 3], bbox: &CoveredBox, area: i32, fpu: bool) -> Self {
-        let [p0, p1, p2] = tri;
-        // Reorder so the inside is E > 0 (positive image-space area).
-        let (a, b, c) = if area > 0 { (p0, p1, p2) } else { (p0, p2, p1) };
         let CoveredBox { x0, x1, y0, y1, min_y, max_y } = *bbox;
-        // The origin is the bounding box's first pixel centre *of the frame*, not of the band,
-        // so that every interpolated value is the same whichever band draws the pixel.
-        let fy0 = first_centre(min_y).max(0);
-        let (ox, oy) = (x0 * 16 + 8, fy0 * 16 + 8);
-        let edges = [Edge::new(b, c, ox, oy), Edge::new(c, a, ox, oy), Edge::new(a, b, ox, oy)];
+        let ([a, b, c], (ox, oy), fy0, edges) = oriented(tri, bbox, area);
 
         // Depth plane from the three vertices: in f32 with f32 perspective (an FPU's few
         // instructions; `F32`: deterministic on every target) where that is accurate, else in
@@ -415,27 +455,10 @@ impl<const V: usize> Setup<V> {
         perspective::linear_within(dv, (*qa, *qb), &self.tolerance)
     }
 
-    /// [`Setup::varyings_at`] in f32: the weights `E_k · (1/w_k)`
-    /// keep full relative precision however much the near vertex is magnified by a large depth
-    /// ratio, and one division serves every varying. The sum comes back as its f32 bits
-    /// (positive, so they order as the values do; 0 where every `E_k` is).
+    /// [`Setup::varyings_at`] in f32 (see [`f32_varyings`]).
     #[inline(always)]
     fn varyings_at_f32(&self, e: [i32; 3]) -> ([i32; V], u32) {
-        // Non-negative, so converted as unsigned (the same value, a shorter conversion).
-        let n = |k: usize| F32::from(e[k].max(0) as u32) * self.inv_w[k];
-        let (n1, n2) = (n(1), n(2));
-        let sum = n(0) + n1 + n2;
-        let mut out = self.v0;
-        if sum <= F32(0.0) {
-            return (out, 0);
-        }
-        let inv = F32(1.0) / sum;
-        let (b1, b2) = (n1 * inv, n2 * inv);
-        for (k, o) in out.iter_mut().enumerate() {
-            let offset = F32::from(self.d1[k]) * b1 + F32::from(self.d2[k]) * b2;
-            *o = o.wrapping_add(offset.to_i32());
-        }
-        (out, sum.0.to_bits())
+        f32_varyings(e, &self.inv_w, (&self.v0, &self.d1.map(F32::from), &self.d2.map(F32::from)))
     }
 
     /// Allows affine (screen-linear) varyings when that is provably within `tolerance[k]`

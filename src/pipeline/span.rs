@@ -254,7 +254,7 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
     }
 
     /// One pixel at frame pixel `(x, y)` with depth `z` and varyings `v`: a run of one, for the
-    /// small triangles drawn pixel by pixel (`Setup::for_each_pixel`).
+    /// small triangles drawn pixel by pixel (`SmallTriangle::for_each_pixel`).
     #[cfg(not(soft_float))]
     #[inline(always)]
     pub(super) fn pixel<const V: usize>(&mut self, base: &B, (x, y): (i32, i32), z: Depth30, v: [FDot16; V]) {

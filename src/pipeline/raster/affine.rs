@@ -178,23 +178,33 @@ fn floor_sixteenth((z1, d1): (i64, i32), (z2, d2): (i64, i32)) -> i64 {
 #[inline(always)]
 pub(super) fn depth_plane(v: [(i32, i32, f32); 3], area: i32, (ox, oy): (i32, i32), fpu: bool) -> (i64, i64, i64) {
     if fpu {
-        let [(ax, ay, az), (bx, by, bz), (cx, cy, cz)] = v.map(|(x, y, z)| (x, y, F32(z)));
-        let (dz1, dz2) = (bz - az, cz - az);
-        let (ex1, ey1, ex2, ey2) = (F32::from(bx - ax), F32::from(by - ay), F32::from(cx - ax), F32::from(cy - ay));
-        let af = F32::from(area.unsigned_abs());
-        let (p1, p2, p3, p4) = (dz1 * ey2, dz2 * ey1, dz2 * ex1, dz1 * ex2);
-        let sum = (p1.abs() + p2.abs()) * (ex1.abs() + ex2.abs()) + (p3.abs() + p4.abs()) * (ey1.abs() + ey2.abs());
-        // Written so that NaN fails it.
-        if sum <= af {
-            let gx = (p1 - p2) / af; // per 1/16 pixel
-            let gy = (p3 - p4) / af;
-            let z_at_origin = az + gx * F32::from(ox - ax) + gy * F32::from(oy - ay);
+        if let Some((z_at_origin, gx, gy)) = f32_depth_plane(v, area, (ox, oy)) {
             // Powers of two: exact, and no soft-float multiply without an FPU.
             let to_fixed = |v: F32| crate::math::f32_to_i64(times_power_of_two(v.0, DEPTH40_ONE));
-            return (to_fixed(z_at_origin), to_fixed(F32(times_16(gx.0))), to_fixed(F32(times_16(gy.0))));
+            return (to_fixed(z_at_origin), to_fixed(gx), to_fixed(gy));
         }
     }
     integer_depth_plane(v, area.unsigned_abs(), (ox, oy))
+}
+
+/// [`depth_plane`]'s plane in f32 (depth 0..=1 at the origin pixel `(ox, oy)`, and per pixel in
+/// x and y) where that is accurate (see there), else `None`.
+#[inline(always)]
+pub(super) fn f32_depth_plane(v: [(i32, i32, f32); 3], area: i32, (ox, oy): (i32, i32)) -> Option<(F32, F32, F32)> {
+    let [(ax, ay, az), (bx, by, bz), (cx, cy, cz)] = v.map(|(x, y, z)| (x, y, F32(z)));
+    let (dz1, dz2) = (bz - az, cz - az);
+    let (ex1, ey1, ex2, ey2) = (F32::from(bx - ax), F32::from(by - ay), F32::from(cx - ax), F32::from(cy - ay));
+    let af = F32::from(area.unsigned_abs());
+    let (p1, p2, p3, p4) = (dz1 * ey2, dz2 * ey1, dz2 * ex1, dz1 * ex2);
+    let sum = (p1.abs() + p2.abs()) * (ex1.abs() + ex2.abs()) + (p3.abs() + p4.abs()) * (ey1.abs() + ey2.abs());
+    // Written so that NaN fails it.
+    (sum <= af).then(|| {
+        let gx = (p1 - p2) / af; // per 1/16 pixel
+        let gy = (p3 - p4) / af;
+        let z_at_origin = az + gx * F32::from(ox - ax) + gy * F32::from(oy - ay);
+        // Times 16, a power of two: exact, and no soft-float multiply without an FPU.
+        (z_at_origin, F32(times_16(gx.0)), F32(times_16(gy.0)))
+    })
 }
 
 /// `1 / area` for [`AffinePlanes::in_integers`]: `area = m / 2^s` with `m` in `2^31..2^32`,
