@@ -10,7 +10,7 @@ use crate::fixed::{depth30_from_unit, Depth30, FDot16};
 use crate::math::{i64_to_f32_scaled, F32};
 
 /// The largest box, in pixel centres (see `CoveredBox::frame_pixels`), drawn pixel by pixel.
-pub(crate) const SMALL_BOX: u32 = 16;
+pub(crate) const SMALL_BOX: u32 = 24;
 
 /// A small triangle ready to draw pixel by pixel: only what [`SmallTriangle::for_each_pixel`]
 /// reads (no planes for the varyings, no row walk, no affine test: for a few pixels, their
