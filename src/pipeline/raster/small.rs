@@ -1,8 +1,10 @@
-//! Small triangles: every pixel centre of the box tested against the three edges and each
-//! covered one given its exact perspective-correct varyings ([`Setup::for_each_pixel`]), for
-//! triangles whose box holds so few pixels that the planes, the affine test and the row walk
-//! of the other paths cost more than the pixels themselves (a distant mesh's triangles, most of
-//! them one to three pixels). It does not shade the pixels (`span` does).
+//! Small triangles: a set-up of their own ([`SmallTriangle`]: the edges, the depth plane kept
+//! in f32, the corners' perspective values), then every pixel centre of the box tested against
+//! the three edges and each covered one given its exact perspective-correct varyings
+//! ([`SmallTriangle::for_each_pixel`]), for triangles whose box holds so few pixels that the
+//! planes, the affine test and the row walk of the other paths cost more than the pixels
+//! themselves (a distant mesh's triangles, most of them one to three pixels). It does not shade
+//! the pixels (`span` does).
 
 use super::affine::{f32_depth_plane, integer_depth_plane};
 use super::{f32_varyings, normalised_inv_w, oriented, Corner, CoveredBox, Edge};
@@ -87,9 +89,9 @@ impl<const V: usize> SmallTriangle<V> {
     }
 }
 
-/// The depth plane of a triangle whose f32 plane is not accurate (a sliver: see
-/// `affine::depth_plane`), as `SmallTriangle` steps it: the integer plane's values (exact within
-/// a unit of 2^-40) rounded to f32. Rare: out of line.
+/// The depth plane of a triangle whose f32 plane is not accurate (a sliver, or depths far apart
+/// for its size: see `affine::depth_plane`), as `SmallTriangle` steps it: the integer plane's
+/// values (exact within a unit of 2^-40) rounded to f32. Rare in a mesh: out of line.
 #[cold]
 #[inline(never)]
 fn sliver_depth_plane(v: [(i32, i32, f32); 3], area: i32, origin: (i32, i32)) -> (F32, F32, F32) {
@@ -117,13 +119,13 @@ mod tests {
     /// Small triangles drawn pixel by pixel cover exactly the pixels the rows cover, with their
     /// exact varyings (the rows' at every pixel, as `subspan = 1` gives them) and depths within
     /// 2^11 units of 2^-30 (1/8 of a 16-bit depth step) of the rows' plane where its values are
-    /// at most 1 (more for slivers' steep planes, in proportion), in every band; the choice is
+    /// at most 1 (more for steep planes, in proportion), in every band; the choice is
     /// the same in every band (a small LCG: reproducible without a dependency).
     #[test]
     fn pixels_of_small_triangles_are_the_rows_pixels() {
         let mut rng = crate::test_rng::Lcg(0x5a11_b0c5);
         let mut next = |n: u32| (rng.next() >> 1) % n;
-        let (mut small, mut slivers, mut pixels, mut worst) = (0, 0, 0, 0);
+        let (mut small, mut steep, mut pixels, mut worst) = (0, 0, 0, 0);
         for _ in 0..20_000 {
             let (size, at) = ([3, 6, 12][next(3) as usize], next(200) as i32 * 16);
             let vertex = |next: &mut dyn FnMut(u32) -> u32| ScreenVertex {
@@ -152,7 +154,7 @@ mod tests {
                 assert!(small_in(&whole).is_some(), "{tri:?} in {window:?}: small here only");
                 small += 1;
                 let ([a, b, c], origin, _, _) = oriented(&corners, &bbox, area);
-                slivers += u32::from(f32_depth_plane([a, b, c].map(|v| (v.x, v.y, v.z)), area, origin).is_none());
+                steep += u32::from(f32_depth_plane([a, b, c].map(|v| (v.x, v.y, v.z)), area, origin).is_none());
                 let mut setup = Setup::<3>::new(&tri, &window, false, false).unwrap();
                 setup.use_fpu_perspective();
                 let mut rows = Pixels(Vec::new());
@@ -175,9 +177,11 @@ mod tests {
             }
         }
         assert!(
-            small > 5000 && slivers > 10 && pixels > 5000,
-            "{small} small triangles ({slivers} slivers), {pixels} pixels"
+            small > 5000 && steep > 10 && pixels > 5000,
+            "{small} small triangles ({steep} with steep planes), {pixels} pixels"
         );
-        std::println!("{small} small triangles ({slivers} slivers), {pixels} pixels, depth at most {worst} units off");
+        std::println!(
+            "{small} small triangles ({steep} with steep planes), {pixels} pixels, depth at most {worst} units off"
+        );
     }
 }
