@@ -327,9 +327,11 @@ impl FixedTransform {
     #[inline(always)]
     #[must_use]
     pub fn sums(&self, q: [i32; 3]) -> [i64; 4] {
-        core::array::from_fn(|i| {
+        // Spelt out: `array::from_fn` here is a call of its own on Armv6-M (not inlined).
+        let row = |i: usize| {
             self.b[i] + mul_wide(self.a[i][0], q[0]) + mul_wide(self.a[i][1], q[1]) + mul_wide(self.a[i][2], q[2])
-        })
+        };
+        [row(0), row(1), row(2), row(3)]
     }
 
     /// The power-of-two scale of each coordinate's sum (see [`FixedTransform::sums`]).

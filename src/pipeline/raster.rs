@@ -433,7 +433,13 @@ impl<const V: usize> Setup<V> {
         }
         match perspective::weights(e, self.e_shift, &self.q) {
             Some((w, sum)) => {
-                (core::array::from_fn(|k| perspective::interpolate(self.v0[k], self.d1[k], self.d2[k], w)), sum)
+                // A loop, not `array::from_fn`: that is a call of its own on Armv6-M (not
+                // inlined).
+                let mut out = self.v0;
+                for (k, o) in out.iter_mut().enumerate() {
+                    *o = perspective::interpolate(*o, self.d1[k], self.d2[k], w);
+                }
+                (out, sum)
             }
             None => (self.v0, 0),
         }

@@ -131,8 +131,10 @@ const RECIPROCALS: [u16; 128] = {
 /// `Q_BITS` fixed point: the largest exactly `1 << Q_BITS`, the others from the significands'
 /// quotient through [`reciprocal`] (within 3 units: the reciprocal's 2^-30 of 2^31, and the
 /// truncation), at least [`Q_MIN`] and at most `1 << Q_BITS`. In integers: no soft-float
-/// division without an FPU.
-#[inline(always)]
+/// division without an FPU. Out of line with an FPU, whose draws use it only without f32
+/// perspective (`RenderOptions::fixed_vertices`).
+#[cfg_attr(soft_float, inline(always))]
+#[cfg_attr(not(soft_float), inline(never))]
 pub(super) fn normalised_q(inv_w: [f32; 3]) -> [u32; 3] {
     // Positive floats order as their bits do.
     let bits = inv_w.map(f32::to_bits);
@@ -140,7 +142,7 @@ pub(super) fn normalised_q(inv_w: [f32; 3]) -> [u32; 3] {
     let (e_max, m_max) = unpack_positive(max);
     // `≈ 2^54 / m_max`, so that `m · r / 2^23 ≈ m · 2^31 / m_max`, below 2^32 (`m < 2 · m_max`).
     let r = reciprocal(m_max << 8);
-    bits.map(|b| {
+    let q = |b: u32| {
         let (e, m) = unpack_positive(b);
         let shift = (e_max - e) as u32;
         if b == max {
@@ -151,7 +153,9 @@ pub(super) fn normalised_q(inv_w: [f32; 3]) -> [u32; 3] {
         } else {
             (((mul_u32(m, r) >> 23) as u32) >> shift).clamp(Q_MIN, 1 << Q_BITS)
         }
-    })
+    };
+    // Spelt out: an array's `map` is a call of its own on Armv6-M (not inlined).
+    [q(bits[0]), q(bits[1]), q(bits[2])]
 }
 
 /// A positive float's exponent and significand (in `2^23..2^24`; subnormals normalised, their
