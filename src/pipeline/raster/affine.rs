@@ -77,7 +77,9 @@ impl<const V: usize> AffinePlanes<V> {
     ) -> Option<Self> {
         let inverse = AreaReciprocal::new(area);
         let (e1, e2) = (&edges[1], &edges[2]);
-        let mut p = AffinePlanes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
+        // `v0`'s values stand in until `set` sets every varying's terms: a copy is a few stores,
+        // where zeros are a `memset` call on Armv6-M.
+        let mut p = AffinePlanes { base: *v0, origin: *v0, gx: *v0, gy: *v0, step: *v0 };
         for k in 0..V {
             let (d1, d2) = (d1[k], d2[k]);
             // `a` and `b` are per 1/16 pixel and the terms in 24.8 units: per pixel, times 2^12;
