@@ -171,7 +171,8 @@ fn normalised_inv_w(inv_w: [f32; 3]) -> [F32; 3] {
 
 /// Perspective-correct varyings in f32 where the edge functions are `e` (negative ones count as
 /// 0), for `1/w`s `inv_w` divided by the largest, varyings `v0` at vertex 0 and their
-/// differences `d1`, `d2` to vertices 1 and 2 (in f32): the weights `E_k · (1/w_k)` keep full relative
+/// differences to vertices 1 and 2 (`d(k)` for varying `k`, in f32: converted where the caller
+/// keeps them, with no array of them made here): the weights `E_k · (1/w_k)` keep full relative
 /// precision however much the near vertex is magnified by a large depth ratio, and one division
 /// serves every varying. The sum comes back as its f32 bits (positive, so they order as the
 /// values do; 0 where every `E_k` is).
@@ -179,7 +180,8 @@ fn normalised_inv_w(inv_w: [f32; 3]) -> [F32; 3] {
 fn f32_varyings<const V: usize>(
     e: [i32; 3],
     inv_w: &[F32; 3],
-    (v0, d1, d2): (&[FDot16; V], &[F32; V], &[F32; V]),
+    v0: &[FDot16; V],
+    d: impl Fn(usize) -> (F32, F32),
 ) -> ([i32; V], u32) {
     // Non-negative, so converted as unsigned (the same value, a shorter conversion).
     let n = |k: usize| F32::from(e[k].max(0) as u32) * inv_w[k];
@@ -192,7 +194,8 @@ fn f32_varyings<const V: usize>(
     let inv = F32(1.0) / sum;
     let (b1, b2) = (n1 * inv, n2 * inv);
     for (k, o) in out.iter_mut().enumerate() {
-        let offset = d1[k] * b1 + d2[k] * b2;
+        let (d1, d2) = d(k);
+        let offset = d1 * b1 + d2 * b2;
         *o = o.wrapping_add(offset.to_i32());
     }
     (out, sum.0.to_bits())
@@ -464,7 +467,7 @@ impl<const V: usize> Setup<V> {
     /// [`Setup::varyings_at`] in f32 (see [`f32_varyings`]).
     #[inline(always)]
     fn varyings_at_f32(&self, e: [i32; 3]) -> ([i32; V], u32) {
-        f32_varyings(e, &self.inv_w, (&self.v0, &self.d1.map(F32::from), &self.d2.map(F32::from)))
+        f32_varyings(e, &self.inv_w, &self.v0, |k| (F32::from(self.d1[k]), F32::from(self.d2[k])))
     }
 
     /// Allows affine (screen-linear) varyings when that is provably within `tolerance[k]`

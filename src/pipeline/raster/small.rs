@@ -69,7 +69,6 @@ impl<const V: usize> SmallTriangle<V> {
     pub(crate) fn for_each_pixel(&self, mut pixel: impl FnMut(i32, i32, Depth30, [FDot16; V])) {
         let steps: [i32; 3] = core::array::from_fn(|k| self.edges[k].a * 16);
         let (z_origin, z_dx, z_dy) = self.z;
-        let varyings = (&self.v0, &self.d1, &self.d2);
         for y in self.y0..=self.y1 {
             let dy = y - self.origin_row;
             let mut e: [i32; 3] = core::array::from_fn(|k| self.edges[k].c + self.edges[k].b * 16 * dy);
@@ -78,7 +77,12 @@ impl<const V: usize> SmallTriangle<V> {
             for x in 0..=self.x1 - self.x0 {
                 // Inside every edge: all three non-negative, so their sign bits' union is clear.
                 if e[0] | e[1] | e[2] >= 0 {
-                    pixel(self.x0 + x, y, depth30_from_unit(z.0), f32_varyings(e, &self.inv_w, varyings).0);
+                    pixel(
+                        self.x0 + x,
+                        y,
+                        depth30_from_unit(z.0),
+                        f32_varyings(e, &self.inv_w, &self.v0, |k| (self.d1[k], self.d2[k])).0,
+                    );
                 }
                 // Within the box every edge function fits i32 (see the module's numbers); the
                 // step after the last column is not used (wrapping: it may leave the box).
