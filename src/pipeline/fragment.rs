@@ -494,6 +494,6 @@ fn draw_pixels<C: FrameColor, R: RunCells, B: Base, Lt: Lighting, const V: usize
     small: &SmallTriangle<V>,
 ) -> (u32, u32, u32) {
     let base = *shader.base;
-    small.for_each_pixel(|x, y, z, v| shader.pixel(&base, (x, y), z, v));
+    small.for_each_pixel(|x, y, z, v| shader.pixel(&base, (x, y), z, || v.get()));
     (shader.written, shader.rejected, shader.runs)
 }

@@ -122,6 +122,28 @@ impl<const V: usize> RunVaryings<V> for Stepped<V> {
     }
 }
 
+/// The varyings of a run of one pixel, worked out only when read (not for a pixel that the
+/// depth test rejects), texel coordinate `v` then shifted left by the second field (see
+/// [`RunVaryings::shift_v`]).
+#[cfg(not(soft_float))]
+pub(super) struct OnDemand<F>(F, u32);
+
+#[cfg(not(soft_float))]
+impl<const V: usize, F: Fn() -> [FDot16; V]> RunVaryings<V> for OnDemand<F> {
+    #[inline(always)]
+    fn shift_v(&mut self, shift: u32) {
+        self.1 = shift;
+    }
+    #[inline(always)]
+    fn current(&self) -> [FDot16; V] {
+        let (mut v, k) = ((self.0)(), VertexLit::V);
+        v[k] = v[k].wrapping_shl(self.1);
+        v
+    }
+    #[inline(always)]
+    fn advance(&mut self) {}
+}
+
 /// A band's depth buffer as the span loop reaches the cells of a run.
 pub(super) trait RunCells {
     /// The cells of a run, in order.
@@ -253,12 +275,19 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         self.runs += 1;
     }
 
-    /// One pixel at frame pixel `(x, y)` with depth `z` and varyings `v`: a run of one, for the
-    /// small triangles drawn pixel by pixel (`SmallTriangle::for_each_pixel`).
+    /// One pixel at frame pixel `(x, y)` with depth `z` and the varyings `v` gives: a run of
+    /// one, for the small triangles drawn pixel by pixel (`SmallTriangle::for_each_pixel`),
+    /// whose varyings are worked out only when the depth test passes.
     #[cfg(not(soft_float))]
     #[inline(always)]
-    pub(super) fn pixel<const V: usize>(&mut self, base: &B, (x, y): (i32, i32), z: Depth30, v: [FDot16; V]) {
-        self.run(base, (x, y, 1), (z, 0), Stepped(v, [0; V]));
+    pub(super) fn pixel<const V: usize>(
+        &mut self,
+        base: &B,
+        (x, y): (i32, i32),
+        z: Depth30,
+        v: impl Fn() -> [FDot16; V],
+    ) {
+        self.run(base, (x, y, 1), (z, 0), OnDemand(v, 0));
     }
 
     /// Draws a triangle's rows (see [`WalkedRows`]): the same pixels as the runs

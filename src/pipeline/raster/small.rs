@@ -66,7 +66,7 @@ impl<const V: usize> SmallTriangle<V> {
     /// varyings (`raster::f32_varyings`, as the exact rows give them). The edge functions are
     /// the rows' (`c + 16·b·dy + 16·a·x`), so the covered pixels are the same ones.
     #[inline(always)]
-    pub(crate) fn for_each_pixel(&self, mut pixel: impl FnMut(i32, i32, Depth30, [FDot16; V])) {
+    pub(crate) fn for_each_pixel(&self, mut pixel: impl FnMut(i32, i32, Depth30, ExactVaryings<'_, V>)) {
         let steps: [i32; 3] = core::array::from_fn(|k| self.edges[k].a * 16);
         let (z_origin, z_dx, z_dy) = self.z;
         for y in self.y0..=self.y1 {
@@ -77,12 +77,7 @@ impl<const V: usize> SmallTriangle<V> {
             for x in 0..=self.x1 - self.x0 {
                 // Inside every edge: all three non-negative, so their sign bits' union is clear.
                 if e[0] | e[1] | e[2] >= 0 {
-                    pixel(
-                        self.x0 + x,
-                        y,
-                        depth30_from_unit(z.0),
-                        f32_varyings(e, &self.inv_w, &self.v0, |k| (self.d1[k], self.d2[k])).0,
-                    );
+                    pixel(self.x0 + x, y, depth30_from_unit(z.0), ExactVaryings(self, e));
                 }
                 // Within the box every edge function fits i32 (see the module's numbers); the
                 // step after the last column is not used (wrapping: it may leave the box).
@@ -90,6 +85,19 @@ impl<const V: usize> SmallTriangle<V> {
                 z = z + z_dx;
             }
         }
+    }
+}
+
+/// A covered pixel's exact varyings (see [`SmallTriangle::for_each_pixel`]), worked out by
+/// [`ExactVaryings::get`]: for a pixel the depth test rejects, not at all.
+pub(crate) struct ExactVaryings<'t, const V: usize>(&'t SmallTriangle<V>, [i32; 3]);
+
+impl<const V: usize> ExactVaryings<'_, V> {
+    /// The varyings (`raster::f32_varyings` at the pixel's edge functions).
+    #[inline(always)]
+    pub(crate) fn get(&self) -> [FDot16; V] {
+        let (t, e) = (self.0, self.1);
+        f32_varyings(e, &t.inv_w, &t.v0, |k| (t.d1[k], t.d2[k])).0
     }
 }
 
@@ -164,7 +172,7 @@ mod tests {
                 let mut rows = Pixels(Vec::new());
                 setup.for_each_span(1, &mut rows);
                 let mut each = Vec::new();
-                triangle.for_each_pixel(|x, y, z, v| each.push((x, y, z, v)));
+                triangle.for_each_pixel(|x, y, z, v| each.push((x, y, z, v.get())));
                 assert_eq!(each.len(), rows.0.len(), "{tri:?} in {window:?}");
                 // f32 steps from the plane's values: within some ulps of the largest term (and
                 // the f32 plane's own 2^-21, see `affine::depth_plane`).
