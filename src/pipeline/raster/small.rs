@@ -52,7 +52,7 @@ impl<const V: usize> SmallTriangle<V> {
             y0: bbox.y0,
             y1: bbox.y1,
             origin_row,
-            z: f32_depth_plane(v, area, origin).unwrap_or_else(|| sliver_depth_plane(v, area, origin)),
+            z: f32_depth_plane(v, area, origin).unwrap_or_else(|| steep_depth_plane(v, area, origin)),
             inv_w: normalised_inv_w([a.inv_w, b.inv_w, c.inv_w]),
             v0: a.v,
             d1: core::array::from_fn(|k| F32::from(b.v[k].wrapping_sub(a.v[k]))),
@@ -63,7 +63,8 @@ impl<const V: usize> SmallTriangle<V> {
     /// Hands every covered pixel of the window to `pixel`, row by row, left to right: frame
     /// column and row, depth (the f32 plane's, stepped from each row's first column, in 2.30:
     /// within about 2^-19 of the exact plane, see the test) and the exact perspective-correct
-    /// varyings (`raster::f32_varyings`, as the exact rows give them). The edge functions are
+    /// varyings (`raster::f32_varyings`, as the exact rows give them), worked out when read
+    /// ([`ExactVaryings::get`]: not for a pixel the depth test rejects). The edge functions are
     /// the rows' (`c + 16·b·dy + 16·a·x`), so the covered pixels are the same ones.
     #[inline(always)]
     pub(crate) fn for_each_pixel(&self, mut pixel: impl FnMut(i32, i32, Depth30, ExactVaryings<'_, V>)) {
@@ -106,7 +107,7 @@ impl<const V: usize> ExactVaryings<'_, V> {
 /// values (exact within a unit of 2^-40) rounded to f32. Rare in a mesh: out of line.
 #[cold]
 #[inline(never)]
-fn sliver_depth_plane(v: [(i32, i32, f32); 3], area: i32, origin: (i32, i32)) -> (F32, F32, F32) {
+fn steep_depth_plane(v: [(i32, i32, f32); 3], area: i32, origin: (i32, i32)) -> (F32, F32, F32) {
     let (z, z_dx, z_dy) = integer_depth_plane(v, area.unsigned_abs(), origin);
     let to_f32 = |v: i64| F32(i64_to_f32_scaled(v, 40));
     (to_f32(z), to_f32(z_dx), to_f32(z_dy))
