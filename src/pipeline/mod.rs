@@ -341,6 +341,8 @@ pub(crate) struct Context<'l, const L: usize> {
     pub(crate) eye: Vec3,
     pub(crate) lights: &'l Lights<L>,
     pub(crate) vertex_lights: PreparedLights<L>,
+    /// The lights per pixel: for Phong shading, the only one that reads them (none else: each
+    /// band builds its context, and their fixed-point conversion is soft-float without an FPU).
     pub(crate) pixel_lights: PixelLights<L>,
     /// The specular colour in 8 bits (zero: specular off).
     pub(crate) specular: [u8; 3],
@@ -375,7 +377,7 @@ impl<'l, const L: usize> Context<'l, L> {
             lights,
             vertex_lights: lights.prepared(),
             specular: lights.specular.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8),
-            pixel_lights: PixelLights::new(lights),
+            pixel_lights: if opts.shading == Shading::Phong { PixelLights::new(lights) } else { PixelLights::default() },
             lit_by_position: lights.specular != Vec3::ZERO
                 || lights.lights.iter().any(|l| l.kind == crate::format::LightKind::Point),
             grey_light: is_grey(lights.ambient) && lights.lights.iter().all(|l| is_grey(l.diffuse)),
@@ -548,15 +550,22 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         let surface = Surface::new(&material, sampler.as_ref(), ctx, &setup);
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
         let variant = surface.lit.map(|lit| fragment::variant(ctx, &surface, lit));
-        let mut draw = |t, stats: &mut Stats| draw_triangle(band, ctx, &setup, t, (&surface, variant), stats);
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
+            // The first band to draw them (rows are learnt for all at once, see
+            // `draw_triangle`): every triangle is tested and drawn, learning its rows.
+            Some(seen) if seen.first() == Some(&TriangleRows::UNKNOWN) => {
+                for (t, r) in (range.start..).zip(seen) {
+                    *r = draw_in_first_band(band, ctx, &setup, (t, None), (&surface, variant), &mut stats);
+                }
+            }
             Some(seen) => {
                 let band_rows = (ctx.window.row_start, ctx.window.row_end);
+                let mut draw = |t, stats: &mut Stats| draw_one(band, ctx, &setup, t, (&surface, variant), stats);
                 let touched = draw_touching(seen, range.start, band_rows, &mut stats, &mut draw);
                 stats.outside_band += sub.triangle_count - touched;
             }
             None => range.for_each(|t| {
-                draw((t, None), &mut stats);
+                draw_one(band, ctx, &setup, (t, None), (&surface, variant), &mut stats);
             }),
         }
     }
@@ -588,6 +597,37 @@ fn draw_touching(
         }
     }
     touched
+}
+
+/// [`draw_triangle`] out of line: for [`draw_touching`] (whose loop, skipping the triangles a
+/// band does not touch, stays small) and draws without a row cache.
+#[inline(never)]
+fn draw_one<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'c>,
+    t: (u32, Option<Learnt>),
+    surface: (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
+    stats: &mut Stats,
+) -> TriangleRows {
+    draw_triangle(band, ctx, s, t, surface, stats)
+}
+
+/// [`draw_triangle`] for the first band of a frame, which tests every triangle: inlined into its
+/// loop where there is an FPU, so that a culled triangle costs no call (Cortex-M4F reference
+/// frame -23k instructions against [`draw_one`]); out of line without one, where Armv6-M's
+/// eight low registers made the inlined loop dearer (+17k).
+#[cfg_attr(not(soft_float), inline(always))]
+#[cfg_attr(soft_float, inline(never))]
+fn draw_in_first_band<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'c>,
+    t: (u32, Option<Learnt>),
+    surface: (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
+    stats: &mut Stats,
+) -> TriangleRows {
+    draw_triangle(band, ctx, s, t, surface, stats)
 }
 
 /// The material sub-mesh `sub` draws with (the default one when it has none).

@@ -1,13 +1,15 @@
-//! Exact integer division by a small divisor (below 256: a run's length in pixels, an edge's
+//! Exact integer division by a small divisor (below 1024: a run's length in pixels, an edge's
 //! height in 1/16 pixel), for targets without a divide instruction (`cfg(no_hw_divide)`), where
 //! each `/` is a library call of about 100 instructions: the quotient from the high half of a
 //! 32 x 32 -> 64-bit product with the divisor's inverse from a table (four 16-bit products),
 //! corrected by its remainder. The same integers as `/` and `%`.
 
-/// The divisors with an inverse in the tables.
-const SMALL: u32 = 256;
+/// The divisors with an inverse in the tables (4 KiB of flash). 1024, not 256: edges up to 64
+/// pixels tall then take no library division (thumbv6m, 8 bands: -18.6k instructions a frame on
+/// the reference frame, whose edges are all below that).
+const SMALL: u32 = 1024;
 
-/// A divisor `d` in `1..256` with its inverse `floor((2^32 - 1) / d)` in 16-bit halves (high,
+/// A divisor `d` in `1..1024` with its inverse `floor((2^32 - 1) / d)` in 16-bit halves (high,
 /// low), looked up in two tables: seeing the halves split from one value, LLVM would turn
 /// [`mul_high`] back into a 64-bit multiply, a library call (`__aeabi_lmul`) on Armv6-M.
 #[derive(Clone, Copy, Debug)]
@@ -17,7 +19,7 @@ pub(super) struct Divisor {
 }
 
 impl Divisor {
-    /// `d` with its inverse, or `None` when it is 0 or not below 256.
+    /// `d` with its inverse, or `None` when it is 0 or not below 1024.
     #[inline(always)]
     pub(super) fn small(d: u32) -> Option<Self> {
         let i = d as usize;
@@ -72,7 +74,7 @@ fn mul_high(a: u32, (bh, bl): (u32, u32)) -> u32 {
 }
 
 /// One half (`shift` 16: the high, 0: the low) of `floor((2^32 - 1) / d)` for each `d` below
-/// 256 (0 for `d = 0`, never used).
+/// 1024 (0 for `d = 0`, never used).
 const fn inverse_halves(shift: u32) -> [u16; SMALL as usize] {
     let mut table = [0; SMALL as usize];
     let mut d = 1;
@@ -96,8 +98,8 @@ mod tests {
         let mut rng = crate::test_rng::Lcg(0x2545_f491_4f6c_dd1d);
         let mut next = || rng.next();
         let edges = [0, 1, 2, 3, 0x7fff_ffff, 0x8000_0000, 0x8000_0001, u32::MAX - 1, u32::MAX];
-        assert!(Divisor::small(0).is_none() && Divisor::small(256).is_none() && Divisor::small(u32::MAX).is_none());
-        for d in 1..256 {
+        assert!(Divisor::small(0).is_none() && Divisor::small(SMALL).is_none() && Divisor::small(u32::MAX).is_none());
+        for d in 1..SMALL {
             let div = Divisor::small(d).unwrap();
             let extremes = edges.into_iter().chain((0..3 * d).flat_map(|k| [k, u32::MAX - k, 0x8000_0000 - k]));
             for n in extremes.chain((0..4000).map(|_| next() >> (next() % 32))) {

@@ -121,7 +121,7 @@ impl<const V: usize> Setup<V> {
 }
 
 /// `(end - start) / len` for each varying (the difference wrapping, the quotient truncated),
-/// `len > 0`: without a divide instruction, from `len`'s inverse when it is below 256.
+/// `len > 0`: without a divide instruction, from `len`'s inverse when it is below 1024.
 #[inline(always)]
 fn per_pixel_steps<const V: usize>(start: &[FDot16; V], end: &[FDot16; V], len: i32) -> [FDot16; V] {
     #[cfg(no_hw_divide)]

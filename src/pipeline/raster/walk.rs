@@ -245,7 +245,7 @@ impl CarriedEdge {
         }
         let d = step.abs();
         let (q, dq) = match super::divide::Divisor::small(d as u32 >> 4) {
-            // `d = 16·|a|`, and `floor(n / 16a) = floor(floor(n / 16) / a)`: edges less than 16
+            // `d = 16·|a|`, and `floor(n / 16a) = floor(floor(n / 16) / a)`: edges less than 64
             // pixels tall (most) divide by `|a|`'s inverse.
             Some(a) => (a.floor_div(row >> 4), a.floor_div(b16 >> 4)),
             None => (super::floor_div(row, d), super::floor_div(b16, d)),
