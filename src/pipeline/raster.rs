@@ -605,7 +605,7 @@ impl<const V: usize> Setup<V> {
                 if len == subspan && subspan.count_ones() == 1 {
                     diff >> subspan.trailing_zeros()
                 } else {
-                    diff / len
+                    rows::divide_step(diff, len)
                 }
             });
             if adaptive && xe == hi {

@@ -131,6 +131,18 @@ fn per_pixel_steps<const V: usize>(start: &[FDot16; V], end: &[FDot16; V], len: 
     core::array::from_fn(|k| end[k].wrapping_sub(start[k]) / len)
 }
 
+/// `diff / len` (truncated), `len > 0`: without a divide instruction from `len`'s inverse when
+/// it is below 1024, out of line (a library call's cost otherwise).
+#[cfg_attr(no_hw_divide, inline(never))]
+#[cfg_attr(not(no_hw_divide), inline(always))]
+pub(super) fn divide_step(diff: FDot16, len: i32) -> FDot16 {
+    #[cfg(no_hw_divide)]
+    if let Some(divisor) = super::divide::Divisor::small(len as u32) {
+        return divisor.div_trunc(diff);
+    }
+    diff / len
+}
+
 /// A triangle's rows for a span loop that walks them itself: the covered columns of each
 /// row and the depth at the first (see [`Setup::row_cursor`]).
 pub(crate) struct RowCursor {
