@@ -377,7 +377,11 @@ impl<'l, const L: usize> Context<'l, L> {
             lights,
             vertex_lights: lights.prepared(),
             specular: lights.specular.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8),
-            pixel_lights: if opts.shading == Shading::Phong { PixelLights::new(lights) } else { PixelLights::default() },
+            pixel_lights: if opts.shading == Shading::Phong {
+                PixelLights::new(lights)
+            } else {
+                PixelLights::default()
+            },
             lit_by_position: lights.specular != Vec3::ZERO
                 || lights.lights.iter().any(|l| l.kind == crate::format::LightKind::Point),
             grey_light: is_grey(lights.ambient) && lights.lights.iter().all(|l| is_grey(l.diffuse)),
