@@ -559,7 +559,15 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
             // `draw_triangle`): every triangle is tested and drawn, learning its rows.
             Some(seen) if seen.first() == Some(&TriangleRows::UNKNOWN) => {
                 for (t, r) in (range.start..).zip(seen) {
-                    *r = draw_in_first_band(band, ctx, &setup, (t, None), (&surface, variant), &mut stats);
+                    // Inlined where there is an FPU, so that a culled triangle costs no call
+                    // (Cortex-M4F reference frame -23k instructions against `draw_one`); out
+                    // of line without one, where Armv6-M's eight low registers made the inlined
+                    // loop dearer (+17k).
+                    #[cfg(not(soft_float))]
+                    let rows = draw_triangle(band, ctx, &setup, (t, None), (&surface, variant), &mut stats);
+                    #[cfg(soft_float)]
+                    let rows = draw_one(band, ctx, &setup, (t, None), (&surface, variant), &mut stats);
+                    *r = rows;
                 }
             }
             Some(seen) => {
@@ -604,26 +612,10 @@ fn draw_touching(
 }
 
 /// [`draw_triangle`] out of line: for [`draw_touching`] (whose loop, skipping the triangles a
-/// band does not touch, stays small) and draws without a row cache.
+/// band does not touch, stays small), draws without a row cache, and the first band's loop on
+/// targets without an FPU.
 #[inline(never)]
 fn draw_one<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
-    band: &mut Band<'_, C, D>,
-    ctx: &Context<'_, L>,
-    s: &DrawSetup<'c>,
-    t: (u32, Option<Learnt>),
-    surface: (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
-    stats: &mut Stats,
-) -> TriangleRows {
-    draw_triangle(band, ctx, s, t, surface, stats)
-}
-
-/// [`draw_triangle`] for the first band of a frame, which tests every triangle: inlined into its
-/// loop where there is an FPU, so that a culled triangle costs no call (Cortex-M4F reference
-/// frame -23k instructions against [`draw_one`]); out of line without one, where Armv6-M's
-/// eight low registers made the inlined loop dearer (+17k).
-#[cfg_attr(not(soft_float), inline(always))]
-#[cfg_attr(soft_float, inline(never))]
-fn draw_in_first_band<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     s: &DrawSetup<'c>,
