@@ -105,14 +105,38 @@ fn mul_i32_halves(a: i32, b: i32) -> i64 {
 #[inline(always)]
 pub(crate) fn reciprocal(d: u32) -> u32 {
     debug_assert!(d >= 1 << 31);
-    let mut x = u32::from(RECIPROCALS[(d >> 24) as usize & 127]) << 15;
-    for _ in 0..2 {
-        // `d x` (2^30 for 1), then `2 - d x` (2^31 for 1).
-        let dx = (mul_u32(d, x) >> 32) as u32;
-        let e = (dx << 1).wrapping_neg();
-        x = (mul_u32(x, e) >> 31) as u32;
+    // The first step from the table's 16 bits `t` (`x = t·2^15`): `d x / 2^32 = d t / 2^17` and
+    // `x e / 2^31 = t e / 2^16`, products of 32 by 16 bits (two halves' products without a
+    // widening multiply, not four); the same integers.
+    let t = RECIPROCALS[(d >> 24) as usize & 127];
+    // `d x` (2^30 for 1), then `2 - d x` (2^31 for 1).
+    let e = (((mul_u32_u16(d, t) >> 17) as u32) << 1).wrapping_neg();
+    let x = (mul_u32_u16(e, t) >> 16) as u32;
+    let dx = (mul_u32(d, x) >> 32) as u32;
+    let e = (dx << 1).wrapping_neg();
+    (mul_u32(x, e) >> 31) as u32
+}
+
+/// `a · b` in full for a 16-bit `b`: two 16 x 16-bit products where there is no widening
+/// multiply (see [`mul_u32`]).
+#[inline(always)]
+fn mul_u32_u16(a: u32, b: u16) -> u64 {
+    #[cfg(no_hw_divide)]
+    {
+        mul_u32_u16_halves(a, b)
     }
-    x
+    #[cfg(not(no_hw_divide))]
+    {
+        u64::from(a) * u64::from(b)
+    }
+}
+
+/// [`mul_u32_u16`] from two 16 x 16-bit products.
+#[cfg(any(no_hw_divide, test))]
+#[inline(always)]
+fn mul_u32_u16_halves(a: u32, b: u16) -> u64 {
+    let b = u32::from(b);
+    (u64::from((a >> 16) * b) << 16) + u64::from((a & 0xffff) * b)
 }
 
 /// `2^39 / (2i + 257)` for `i` in `0..128`, `>> 15`: the reciprocal (`2^62 / d`, its upper 16
@@ -351,6 +375,7 @@ pub(super) mod tests {
             assert_eq!(mul_u32(a, b), a as u64 * b as u64);
             assert_eq!(mul_u32_small_halves(a, b), a as u64 * b as u64);
             assert_eq!(mul_u32_small_halves(a, b & 0xffff), a as u64 * (b & 0xffff) as u64);
+            assert_eq!(mul_u32_u16_halves(a, b as u16), a as u64 * (b & 0xffff) as u64);
             let x = a >> (b % 32) | 1;
             assert_eq!(crate::math::leading_zeros_by_table(x), x.leading_zeros());
             let (a, b) = (a as i32, b as i32);
@@ -363,6 +388,26 @@ pub(super) mod tests {
         for d in [1 << 31, (1 << 31) + 1, u32::MAX] {
             let exact = (1u128 << 62) as f64 / d as f64;
             assert!((reciprocal(d) as f64 - exact).abs() <= exact * 2f64.powi(-29), "1/{d}");
+        }
+    }
+
+    /// The reciprocal's first Newton step from the table's 16 bits gives the same integers as
+    /// two full steps from `x = t·2^15`: every table interval's ends and random divisors.
+    #[test]
+    fn reciprocal_is_two_newton_steps() {
+        let two_steps = |d: u32| {
+            let mut x = u32::from(RECIPROCALS[(d >> 24) as usize & 127]) << 15;
+            for _ in 0..2 {
+                let dx = ((d as u64 * x as u64) >> 32) as u32;
+                let e = (dx << 1).wrapping_neg();
+                x = ((x as u64 * e as u64) >> 31) as u32;
+            }
+            x
+        };
+        let mut rng = Lcg(0x7ec1_9c0a);
+        let ends = (128..256u32).flat_map(|i| [i << 24, (i << 24) | 0xff_ffff]);
+        for d in ends.chain((0..100_000).map(|_| rng.next() | 1 << 31)) {
+            assert_eq!(reciprocal(d), two_steps(d), "1/{d}");
         }
     }
 
