@@ -41,7 +41,7 @@ use crate::light::{FixedLights, Lights, PixelLights, PreparedLights};
 use crate::math::{normal_matrix, FixedTransform, Mat3, Mat4, Vec3};
 use crate::target::{Band, DepthBuffer, FrameColor, GUARD_HALF_EXTENT};
 use crate::texture::{Filter, Sampler};
-use primitive::{draw_triangle, Learnt, Surface};
+use primitive::{common_cache, draw_triangle, Learnt, Surface};
 use raster::Window;
 
 /// How surfaces are lit.
@@ -555,20 +555,9 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
         let variant = surface.lit.map(|lit| fragment::variant(ctx, &surface, lit));
         match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
-            // The first band to draw them (rows are learnt for all at once, see
-            // `draw_triangle`): every triangle is tested and drawn, learning its rows.
+            // The first band to draw them: every triangle is tested and drawn, learning its rows.
             Some(seen) if seen.first() == Some(&TriangleRows::UNKNOWN) => {
-                for (t, r) in (range.start..).zip(seen) {
-                    // Inlined where there is an FPU, so that a culled triangle costs no call
-                    // (Cortex-M4F reference frame -23k instructions against `draw_one`); out
-                    // of line without one, where Armv6-M's eight low registers made the inlined
-                    // loop dearer (+17k).
-                    #[cfg(not(soft_float))]
-                    let rows = draw_triangle(band, ctx, &setup, (t, None), (&surface, variant), &mut stats);
-                    #[cfg(soft_float)]
-                    let rows = draw_one(band, ctx, &setup, (t, None), (&surface, variant), &mut stats);
-                    *r = rows;
-                }
+                draw_first_band(band, ctx, &setup, (seen, range.start), (&surface, variant), &mut stats);
             }
             Some(seen) => {
                 let band_rows = (ctx.window.row_start, ctx.window.row_end);
@@ -634,7 +623,35 @@ fn draw_one<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     surface: (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
     stats: &mut Stats,
 ) -> TriangleRows {
-    draw_triangle(band, ctx, s, t, surface, stats)
+    draw_triangle(band, ctx, (s, common_cache(ctx, s)), t, surface, stats)
+}
+
+/// Draws the triangles from `first` on in the first band that draws them, every one of them
+/// (their rows `seen` not known yet), and learns their rows. Out of line: the loop's values in
+/// a frame of its own, not among its caller's.
+#[inline(never)]
+fn draw_first_band<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'c>,
+    (seen, first): (&mut [TriangleRows], u32),
+    surface: (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
+    stats: &mut Stats,
+) {
+    // Inlined where there is an FPU, so that a culled triangle costs no call (Cortex-M4F
+    // reference frame -23k instructions against `draw_one`), and for the common case only (its
+    // test once, not in the loop); out of line without an FPU, where Armv6-M's eight low
+    // registers made the inlined loop dearer (+17k).
+    let common = common_cache(ctx, s).filter(|_| cfg!(not(soft_float)));
+    if let Some(cache) = common {
+        for (t, r) in (first..).zip(seen) {
+            *r = draw_triangle(band, ctx, (s, Some(cache)), (t, None), surface, stats);
+        }
+    } else {
+        for (t, r) in (first..).zip(seen) {
+            *r = draw_one(band, ctx, s, (t, None), surface, stats);
+        }
+    }
 }
 
 /// The material sub-mesh `sub` draws with (the default one when it has none).

@@ -64,18 +64,19 @@ impl<'a, 'm> Surface<'a, 'm> {
 
 /// Draws triangle `t` and returns the rows it can touch (for [`Scratch`](super::Scratch)).
 /// `learnt`: its rows when an earlier band of this frame learnt them (see [`Learnt`]);
-/// `variant`: the fill of every triangle of `surface`, when the surface decides it (see
+/// `common`: [`common_cache`] (loop-invariant: a triangle loop finds it once); `variant`: the
+/// fill of every triangle of `surface`, when the surface decides it (see
 /// [`fragment::variant`](super::fragment::variant)).
 #[inline(always)]
-pub(crate) fn draw_triangle<C: FrameColor, D: DepthBuffer, const L: usize>(
+pub(crate) fn draw_triangle<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    (s, common): (&DrawSetup<'c>, Option<&'c [TransformedVertex]>),
     (t, learnt): (u32, Option<Learnt>),
     (surface, variant): (&Surface<'_, '_>, Option<Variant<C, D, L>>),
     stats: &mut Stats,
 ) -> TriangleRows {
-    match front_end(ctx, s, (t, learnt), surface, stats) {
+    match front_end(ctx, (s, common), (t, learnt), surface, stats) {
         Front::Done(rows) => rows,
         // The common case, straight to the fill from the vertex cache.
         Front::Cached(p, area, rows) => {
@@ -117,13 +118,13 @@ enum Front<'c> {
 #[inline(always)]
 fn front_end<'c, const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'c>,
+    (s, common): (&DrawSetup<'c>, Option<&'c [TransformedVertex]>),
     (t, learnt): (u32, Option<Learnt>),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> Front<'c> {
     let idx = s.arrays.triangle(t);
-    let Some(p) = unclipped_corners(s, &idx).filter(|_| ctx.opts.mode == Mode::Solid) else {
+    let Some(p) = common.and_then(|cache| unclipped_corners(cache, &idx)) else {
         return Front::Other;
     };
     let xy = p.map(|p| (i32::from(p.xy[0]), i32::from(p.xy[1])));
@@ -139,11 +140,21 @@ fn front_end<'c, const L: usize>(
     }
 }
 
-/// The corners `idx` from the draw's vertex cache, when it has them all and none needs
+/// The vertex cache that the common case of [`front_end`] reads: the draw's, when the mode is
+/// [`Mode::Solid`] (else every triangle is [`Front::Other`]).
+#[inline(always)]
+pub(crate) fn common_cache<'c, const L: usize>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'c>,
+) -> Option<&'c [TransformedVertex]> {
+    s.vertices.filter(|_| ctx.opts.mode == Mode::Solid)
+}
+
+/// The corners `idx` from a draw's vertex cache `cache`, when it has them all and none needs
 /// clipping or is not finite (see [`TransformedVertex::new`]).
 #[inline(always)]
-fn unclipped_corners<'c>(s: &DrawSetup<'c>, idx: &[u32; 3]) -> Option<[&'c TransformedVertex; 3]> {
-    let p = s.vertices.and_then(|cache| cached_corners(cache, idx))?;
+fn unclipped_corners<'c>(cache: &'c [TransformedVertex], idx: &[u32; 3]) -> Option<[&'c TransformedVertex; 3]> {
+    let p = cached_corners(cache, idx)?;
     ((p[0].outcode | p[1].outcode | p[2].outcode) & (NEEDS_CLIP | NOT_FINITE) == 0).then_some(p)
 }
 
@@ -214,7 +225,7 @@ fn other_front<const L: usize>(
 ) -> Other {
     let idx = s.arrays.triangle(t);
     // Cached corners whose triangle needs no clipping; else fresh ones.
-    if let Some(p) = unclipped_corners(s, &idx) {
+    if let Some(p) = s.vertices.and_then(|cache| unclipped_corners(cache, &idx)) {
         return cached_screen(ctx, s, (&idx, p), surface, stats);
     }
     let p = idx.map(|i| projected(ctx, s, i));

@@ -2,7 +2,7 @@
 //! then drawn in that order (for boards without RAM for a depth buffer). It does not transform
 //! for drawing or rasterize (`primitive` and `raster` do, as for every order).
 
-use super::primitive::{draw_triangle, Surface};
+use super::primitive::{common_cache, draw_triangle, Surface};
 use super::{Context, DrawError, DrawSetup, Scratch, SortEntry, Stats};
 use crate::format::Model;
 use crate::math::Mat4;
@@ -56,7 +56,8 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
         let material = sub.and_then(|s| s.material).and_then(|m| model.material(m)).unwrap_or_default();
         let sampler = ctx.sampler(model, &setup.mesh, &material);
         let surface = Surface::new(&material, sampler.as_ref(), ctx, setup);
-        let _ = draw_triangle(band, ctx, setup, (e.triangle, None), (&surface, None), &mut stats);
+        let common = common_cache(ctx, setup);
+        let _ = draw_triangle(band, ctx, (setup, common), (e.triangle, None), (&surface, None), &mut stats);
     }
     Ok(stats)
 }
