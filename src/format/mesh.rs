@@ -239,6 +239,13 @@ enum Indices<'a> {
 }
 
 impl Arrays<'_> {
+    /// Whether the indices are 16-bit (the common width: a triangle loop can test it once).
+    #[inline]
+    #[must_use]
+    pub(crate) fn has_u16_indices(&self) -> bool {
+        matches!(self.indices, Indices::U16(_))
+    }
+
     /// See [`Mesh::position_stored`].
     #[inline]
     #[must_use]

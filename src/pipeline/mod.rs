@@ -639,10 +639,10 @@ fn draw_first_band<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     stats: &mut Stats,
 ) {
     // Inlined where there is an FPU, so that a culled triangle costs no call (Cortex-M4F
-    // reference frame -23k instructions against `draw_one`), and for the common case only (its
-    // test once, not in the loop); out of line without an FPU, where Armv6-M's eight low
-    // registers made the inlined loop dearer (+17k).
-    let common = common_cache(ctx, s).filter(|_| cfg!(not(soft_float)));
+    // reference frame -23k instructions against `draw_one`), and for the common case only:
+    // the vertex cache's and the index width's tests once, not in the loop (-23k); out of line
+    // without an FPU, where Armv6-M's eight low registers made the inlined loop dearer (+17k).
+    let common = common_cache(ctx, s).filter(|_| cfg!(not(soft_float)) && s.arrays.has_u16_indices());
     if let Some(cache) = common {
         for (t, r) in (first..).zip(seen) {
             *r = draw_triangle(band, ctx, (s, Some(cache)), (t, None), surface, stats);
