@@ -213,22 +213,53 @@ impl<const N: usize> FixedLights<N> {
     /// of an 8-bit step).
     #[must_use]
     pub fn at(&self, n: [i16; 3]) -> [u16; 3] {
-        let mut sum = self.ambient;
-        for l in &self.lights {
-            // `|towards| <= 2^15` (a unit vector) and each of `n`'s components at most 2^15 (not
-            // checked to be a unit vector: `|n| <= 2^15·√3`): by Cauchy-Schwarz, `|dot|` is
-            // below 1.86e9 < 2^31, with the roundings' `2^16` added too.
-            let dot = (0..3).fold(0i32, |acc, k| acc.wrapping_add(n[k] as i32 * l.towards[k]));
-            // k in 2.14, rounded: n·L is dot / 2^30 (NORMAL_ONE is 2^15 - 1: 3e-5 relative).
-            let k = if l.hemispheric { (1 << 13) + ((dot + (1 << 16)) >> 17) } else { (dot.max(0) + (1 << 15)) >> 16 };
-            for (s, w) in sum.iter_mut().zip(l.weight) {
-                // `|k| <= 28,378` (2^14 for a unit normal) and `|w| <= 2^16`: the product stays
-                // below 1.86e9 < 2^31; to 16.16.
-                *s += (k * w + (1 << 11)) >> 12;
-            }
-        }
-        sum.map(|s| s.clamp(0, 0xffff) as u16)
+        sum_lights(self.ambient, &self.lights, n)
     }
+
+    /// These lights when there is exactly one: [`OneFixedLight::at`] is [`FixedLights::at`]
+    /// with no loop over the lights, for a loop over vertices that tests their number once.
+    #[inline(always)]
+    pub(crate) fn one(&self) -> Option<OneFixedLight<'_>> {
+        match self.lights.as_slice() {
+            [one] => Some(OneFixedLight { ambient: self.ambient, light: one }),
+            _ => None,
+        }
+    }
+}
+
+/// [`FixedLights`] of one light (see [`FixedLights::one`]).
+pub(crate) struct OneFixedLight<'l> {
+    ambient: [i32; 3],
+    light: &'l FixedLight,
+}
+
+impl OneFixedLight<'_> {
+    /// [`FixedLights::at`].
+    #[inline(always)]
+    pub(crate) fn at(&self, n: [i16; 3]) -> [u16; 3] {
+        sum_lights(self.ambient, core::slice::from_ref(self.light), n)
+    }
+}
+
+/// `ambient` plus the light of `lights` at a vertex whose stored normal is `n`: see
+/// [`FixedLights::at`].
+#[inline(always)]
+fn sum_lights(ambient: [i32; 3], lights: &[FixedLight], n: [i16; 3]) -> [u16; 3] {
+    let mut sum = ambient;
+    for l in lights {
+        // `|towards| <= 2^15` (a unit vector) and each of `n`'s components at most 2^15 (not
+        // checked to be a unit vector: `|n| <= 2^15·√3`): by Cauchy-Schwarz, `|dot|` is
+        // below 1.86e9 < 2^31, with the roundings' `2^16` added too.
+        let dot = (0..3).fold(0i32, |acc, k| acc.wrapping_add(n[k] as i32 * l.towards[k]));
+        // k in 2.14, rounded: n·L is dot / 2^30 (NORMAL_ONE is 2^15 - 1: 3e-5 relative).
+        let k = if l.hemispheric { (1 << 13) + ((dot + (1 << 16)) >> 17) } else { (dot.max(0) + (1 << 15)) >> 16 };
+        for (s, w) in sum.iter_mut().zip(l.weight) {
+            // `|k| <= 28,378` (2^14 for a unit normal) and `|w| <= 2^16`: the product stays
+            // below 1.86e9 < 2^31; to 16.16.
+            *s += (k * w + (1 << 11)) >> 12;
+        }
+    }
+    sum.map(|s| s.clamp(0, 0xffff) as u16)
 }
 
 /// Lights prepared for per-pixel (Phong) lighting in integers: vectors and colours in 16.16.

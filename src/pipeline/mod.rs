@@ -612,8 +612,8 @@ fn draw_touching(
 }
 
 /// [`draw_triangle`] out of line: for [`draw_touching`] (whose loop, skipping the triangles a
-/// band does not touch, stays small), draws without a row cache, and the first band's loop on
-/// targets without an FPU.
+/// band does not touch, stays small), draws without a row cache, and the first band's other
+/// cases.
 #[inline(never)]
 fn draw_one<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
@@ -638,11 +638,11 @@ fn draw_first_band<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     surface: (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
     stats: &mut Stats,
 ) {
-    // Inlined where there is an FPU, so that a culled triangle costs no call (Cortex-M4F
-    // reference frame -23k instructions against `draw_one`), and for the common case only:
-    // the vertex cache's and the index width's tests once, not in the loop (-23k); out of line
-    // without an FPU, where Armv6-M's eight low registers made the inlined loop dearer (+17k).
-    let common = common_cache(ctx, s).filter(|_| cfg!(not(soft_float)) && s.arrays.has_u16_indices());
+    // The common case inlined, so that a culled triangle costs no call (Cortex-M4F reference
+    // frame -23k instructions against `draw_one`), its tests of the vertex cache and of the
+    // index width made once, not in the loop (-23k more; thumbv6m -74k, where the inlined loop
+    // with those tests in it cost 17k more than `draw_one`).
+    let common = common_cache(ctx, s).filter(|_| s.arrays.has_u16_indices());
     if let Some(cache) = common {
         for (t, r) in (first..).zip(seen) {
             *r = draw_triangle(band, ctx, (s, Some(cache)), (t, None), surface, stats);

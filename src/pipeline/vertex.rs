@@ -193,10 +193,17 @@ pub(crate) fn fill_cache<const L: usize>(
     match ctx.opts.shading {
         Shading::Unlit => fill_light(cache, |i| coloured_light(s, i, WHITE)),
         Shading::Gouraud => match &t.fixed_lights {
-            Some(lights) => fill_light(cache, |i| {
-                let [r, g, b] = lights.at(s.arrays.normal_q(i));
-                coloured_light(s, i, [r, g, b, 0])
-            }),
+            // One light (the common case) with no loop over the lights at each vertex.
+            Some(lights) => match lights.one() {
+                Some(one) => fill_light(cache, |i| {
+                    let [r, g, b] = one.at(s.arrays.normal_q(i));
+                    coloured_light(s, i, [r, g, b, 0])
+                }),
+                None => fill_light(cache, |i| {
+                    let [r, g, b] = lights.at(s.arrays.normal_q(i));
+                    coloured_light(s, i, [r, g, b, 0])
+                }),
+            },
             None => fill_light(cache, |i| coloured_light(s, i, float_vertex_light(ctx, s, i))),
         },
         Shading::Flat | Shading::Phong => fill_light(cache, |i| coloured_light(s, i, [0; 4])),
