@@ -35,7 +35,7 @@ STAGES = [
     ("rows and spans (edges, plane or exact varyings per run)", ["for_each_span", "raster::Setup<_>::emit", "WalkedRows", "draw_rows", "linear_row", "exact_row",
                                                                  "PixelRows", "RowCursor", "draw_pixel_rows"]),
     ("triangle set-up (edges, depth plane, affine test)", ["Setup", "SmallTriangle", "raster::facing", "AffinePlanes"]),
-    ("lighting per vertex", ["Lights", "sqrtf"]),
+    ("lighting per vertex", ["Lights", "light::sum_lights", "OneFixedLight", "sqrtf"]),
     ("clipping and projection", ["clip_triangle", "clip::classify", "clip::cut", "draw_clipped", "project",
                                  "clip::outcode", "Projected"]),
     # Before the front end, whose "fill" keys would take the band clear's block fill (inlined
