@@ -6,7 +6,8 @@
 //!    test and the [`DrawSetup`]; per triangle, the [`Scratch`] row test that skips triangles a
 //!    band cannot touch.
 //! 2. `vertex.rs`: fetch, transform (f32 or fixed-point), light per vertex, project, outcode;
-//!    once a frame per vertex with the vertex cache in [`Scratch`].
+//!    once a frame per vertex with the vertex cache in [`Scratch`]. `triangles.rs`: a band's
+//!    loops over a mesh's triangles (the first band's learns their rows).
 //! 3. `primitive.rs`: cull (outcodes, facing), clip (`clip.rs`), project the clipped polygon,
 //!    fan it, and hand each triangle to the fill or to `line.rs` (wireframe, points).
 //! 4. `raster.rs`: triangle set-up in integers, edge walks row by row, spans with depth and
@@ -27,6 +28,7 @@ pub(crate) mod raster;
 mod scratch;
 mod sort;
 mod span;
+mod triangles;
 mod varyings;
 mod vertex;
 
@@ -41,7 +43,7 @@ use crate::light::{FixedLights, Lights, PixelLights, PreparedLights};
 use crate::math::{normal_matrix, FixedTransform, Mat3, Mat4, Vec3};
 use crate::target::{Band, DepthBuffer, FrameColor, GUARD_HALF_EXTENT};
 use crate::texture::{Filter, Sampler};
-use primitive::{common_cache, draw_triangle, Learnt, Surface};
+use primitive::Surface;
 use raster::Window;
 
 /// How surfaces are lit.
@@ -554,105 +556,14 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         let surface = Surface::new(&material, sampler.as_ref(), ctx, &setup);
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
         let variant = surface.lit.map(|lit| fragment::variant(ctx, &surface, lit));
-        match rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize)) {
-            // The first band to draw them: every triangle is tested and drawn, learning its rows.
-            Some(seen) if seen.first() == Some(&TriangleRows::UNKNOWN) => {
-                draw_first_band(band, ctx, &setup, (seen, range.start), (&surface, variant), &mut stats);
-            }
-            Some(seen) => {
-                let band_rows = (ctx.window.row_start, ctx.window.row_end);
-                let mut draw = |t, stats: &mut Stats| draw_one(band, ctx, &setup, t, (&surface, variant), stats);
-                let touched = draw_touching(seen, range.start, band_rows, &mut stats, &mut draw);
-                stats.outside_band += sub.triangle_count - touched;
-            }
-            None => range.for_each(|t| {
-                draw_one(band, ctx, &setup, (t, None), (&surface, variant), &mut stats);
-            }),
-        }
+        let seen = rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize));
+        triangles::draw_range(band, ctx, &setup, (range, seen), (&surface, variant), &mut stats);
     }
     (stats, filled_unclipped.then_some(setup.flip))
 }
 
 /// A draw's rows and vertices in the scratch (see [`Scratch::for_draw`]).
 type Caches<'s> = (Option<&'s mut [TriangleRows]>, Option<&'s mut [TransformedVertex]>);
-
-/// Draws (with `draw`) the triangles from `first` on whose rows `seen` may touch rows
-/// `start..end`, learning their rows, and returns how many. Out of line, a loop of its own: in a
-/// band of a frame of many, most triangles are skipped, and the bounds stay in registers. The
-/// triangles drawn are counted, not the ones skipped, so that loop is the test alone.
-#[inline(never)]
-fn draw_touching(
-    seen: &mut [TriangleRows],
-    first: u32,
-    (start, end): (i32, i32),
-    stats: &mut Stats,
-    draw: &mut impl FnMut((u32, Option<Learnt>), &mut Stats) -> TriangleRows,
-) -> u32 {
-    let mut touched = 0;
-    let mut visit = |r: &mut TriangleRows, t: u32, stats: &mut Stats| {
-        if r.may_touch(start, end) {
-            let learnt = (*r != TriangleRows::UNKNOWN).then_some(Learnt(*r));
-            *r = draw((t, learnt), stats);
-            touched += 1;
-        }
-    };
-    // Two triangles a step: the loop's own instructions (pointer, count, branch) once for both
-    // (Cortex-M4F, 8 bands: -15.5k instructions a frame).
-    let (pairs, last) = seen.as_chunks_mut::<2>();
-    let mut t = first;
-    for [a, b] in pairs {
-        visit(a, t, stats);
-        visit(b, t.wrapping_add(1), stats);
-        t = t.wrapping_add(2);
-    }
-    for r in last {
-        visit(r, t, stats);
-    }
-    touched
-}
-
-/// [`draw_triangle`] out of line: for [`draw_touching`] (whose loop, skipping the triangles a
-/// band does not touch, stays small), draws without a row cache, and the first band's other
-/// cases.
-#[inline(never)]
-fn draw_one<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
-    band: &mut Band<'_, C, D>,
-    ctx: &Context<'_, L>,
-    s: &DrawSetup<'c>,
-    t: (u32, Option<Learnt>),
-    surface: (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
-    stats: &mut Stats,
-) -> TriangleRows {
-    draw_triangle(band, ctx, (s, common_cache(ctx, s)), t, surface, stats)
-}
-
-/// Draws the triangles from `first` on in the first band that draws them, every one of them
-/// (their rows `seen` not known yet), and learns their rows. Out of line: the loop's values in
-/// a frame of its own, not among its caller's.
-#[inline(never)]
-fn draw_first_band<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
-    band: &mut Band<'_, C, D>,
-    ctx: &Context<'_, L>,
-    s: &DrawSetup<'c>,
-    (seen, first): (&mut [TriangleRows], u32),
-    surface: (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
-    stats: &mut Stats,
-) {
-    // The common case inlined, so that a culled triangle costs no call (Cortex-M4F reference
-    // frame -23k instructions against `draw_one`), its tests of the vertex cache and of the
-    // index width made once, not in the loop (-23k more; thumbv6m -74k, where the inlined loop
-    // with those tests in it cost 17k more than `draw_one`).
-    let common = common_cache(ctx, s).filter(|_| s.arrays.has_u16_indices());
-    if let Some(cache) = common {
-        for (t, r) in (first..).zip(seen) {
-            *r = draw_triangle(band, ctx, (s, Some(cache)), (t, None), surface, stats);
-        }
-    } else {
-        for (t, r) in (first..).zip(seen) {
-            *r = draw_one(band, ctx, s, (t, None), surface, stats);
-        }
-    }
-}
 
 /// The material sub-mesh `sub` draws with (the default one when it has none).
 fn material_of(model: &Model<'_>, sub: &SubMesh) -> Material {
