@@ -195,14 +195,8 @@ pub(crate) fn fill_cache<const L: usize>(
         Shading::Gouraud => match &t.fixed_lights {
             // One light (the common case) with no loop over the lights at each vertex.
             Some(lights) => match lights.one() {
-                Some(one) => fill_light(cache, |i| {
-                    let [r, g, b] = one.at(s.arrays.normal_q(i));
-                    coloured_light(s, i, [r, g, b, 0])
-                }),
-                None => fill_light(cache, |i| {
-                    let [r, g, b] = lights.at(s.arrays.normal_q(i));
-                    coloured_light(s, i, [r, g, b, 0])
-                }),
+                Some(one) => fill_fixed_light(s, cache, |n| one.at(n)),
+                None => fill_fixed_light(s, cache, |n| lights.at(n)),
             },
             None => fill_light(cache, |i| coloured_light(s, i, float_vertex_light(ctx, s, i))),
         },
@@ -252,6 +246,15 @@ fn fill_light(cache: &mut [TransformedVertex], light: impl Fn(u32) -> VertexLigh
     for (i, v) in (0u32..).zip(cache.iter_mut()) {
         v.set_light(light(i));
     }
+}
+
+/// [`fill_light`] with Gouraud light in integers, `at` giving a stored normal's light.
+#[inline(always)]
+fn fill_fixed_light(s: &DrawSetup<'_>, cache: &mut [TransformedVertex], at: impl Fn([i16; 3]) -> [u16; 3]) {
+    fill_light(cache, |i| {
+        let [r, g, b] = at(s.arrays.normal_q(i));
+        coloured_light(s, i, [r, g, b, 0])
+    });
 }
 
 /// The corners `idx` in a filled cache (see [`fill_cache`]); `None` when one is beyond it (a
