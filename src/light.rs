@@ -418,6 +418,38 @@ mod tests {
         assert!(worst <= 32, "worst {worst} of 65536");
     }
 
+    /// One light's fast path (`FixedLights::one`) lights every normal as `FixedLights::at`
+    /// does, directional or hemispheric; with two lights there is none.
+    #[test]
+    fn one_fixed_light_is_the_general_sum() {
+        let mut state = 0x0dd_ba11_5eed_u64;
+        let mut unit = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let rotation = Mat3::from_euler(glam::EulerRot::YXZ, 0.7, 0.2, -0.4);
+        for k in 0..100 {
+            let mut lights = Lights::<2>::new(Vec3::splat(unit() * 0.3));
+            let dir = normalize_or_zero(Vec3::new(unit() - 0.5, unit() - 0.5, unit() - 0.5));
+            let mut l = Lights::<2>::directional(dir, unit() * 4.0);
+            l.diffuse = Vec3::new(unit(), unit(), unit());
+            if k % 2 == 1 {
+                l.kind = LightKind::Hemispheric;
+            }
+            lights.push(l).unwrap();
+            let fixed = lights.prepared().fixed::<2>(&rotation).unwrap();
+            let one = fixed.one().unwrap();
+            for _ in 0..100 {
+                let q = [0; 3].map(|_| ((unit() - 0.5) * 65535.0) as i16);
+                assert_eq!(one.at(q), fixed.at(q), "{q:?}");
+            }
+            lights.push(l).unwrap();
+            assert!(lights.prepared().fixed::<2>(&rotation).unwrap().one().is_none());
+        }
+    }
+
     #[test]
     fn specular_peaks_on_the_mirror_direction() {
         let mut lights = Lights::<1>::new(Vec3::ZERO);
