@@ -64,6 +64,9 @@ pub(crate) use rows::{WalkedRow, WalkedRows};
 pub(crate) use small::{SmallTriangle, SMALL_BOX};
 use walk::RowWalk;
 
+/// Added to [`Setup`]'s edge shift (below 32) for narrow integer weights.
+const NARROW: u32 = 32;
+
 /// A vertex after projection: what the rasterizer needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ScreenVertex {
@@ -251,7 +254,11 @@ pub struct Setup<const V: usize> {
     q: [u32; 3],
     /// The smallest of `q`, also where `q` is not worked out (see [`Setup::with_area`]).
     q_min: u32,
-    /// The left shift of edge functions for [`perspective::weights`].
+    /// The left shift of edge functions for [`perspective::weights`], plus [`NARROW`] where the
+    /// integer weights come from 16-bit operands ([`perspective::narrow_weights`]: `1/w`s
+    /// within a factor of two and varyings spanning at most 2^20 units, decided with the
+    /// tolerance in [`Setup::allow_affine`]). One field, not two: the common path's set-up
+    /// stays as it was.
     e_shift: u32,
     /// The same 1/w divided by the largest, in f32 (in (0, 1], the largest exactly 1).
     inv_w: [F32; 3],
@@ -434,7 +441,18 @@ impl<const V: usize> Setup<V> {
         if self.fpu {
             return self.varyings_at_f32(e);
         }
-        match perspective::weights(e, self.e_shift, &self.q) {
+        self.varyings_in_integers(e)
+    }
+
+    /// [`Setup::varyings_at`] in integers.
+    #[inline(always)]
+    fn varyings_in_integers(&self, e: [i32; 3]) -> ([i32; V], u32) {
+        let weights = if self.e_shift >= NARROW {
+            perspective::narrow_weights(e, self.e_shift - NARROW, &self.q)
+        } else {
+            perspective::weights(e, self.e_shift, &self.q)
+        };
+        match weights {
             Some((w, sum)) => {
                 // A loop, not `array::from_fn`: that is a call of its own on Armv6-M (not
                 // inlined).
@@ -461,7 +479,7 @@ impl<const V: usize> Setup<V> {
             let ratio = (qa - qb).abs() / F32(min(qa.0, qb.0));
             return (0..V).all(|k| F32::from(dv[k]).abs() * ratio <= F32::from(self.tolerance[k]));
         }
-        perspective::linear_within(dv, (*qa, *qb), &self.tolerance)
+        perspective::linear_within(dv, (*qa, *qb), &self.tolerance, self.e_shift >= NARROW)
     }
 
     /// [`Setup::varyings_at`] in f32 (see [`f32_varyings`]).
@@ -482,6 +500,8 @@ impl<const V: usize> Setup<V> {
     /// same bound holds for the run. The tolerance is on top of stepping's own rounding: under
     /// one unit (of 2^-16) per pixel of a run, which the exact path has too for `subspan > 1`.
     /// With equal `1/w` everywhere (e.g. an orthographic camera) affine is exact and always used.
+    /// Exact values in integers come from 16-bit operands after this where the triangle allows
+    /// (see [`perspective::narrow_weights`]).
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
         let q_min = self.q_min;
         let within = (0..V).all(|k| {
@@ -503,6 +523,9 @@ impl<const V: usize> Setup<V> {
             })
             .flatten();
         self.tolerance = tolerance.map(|t| t.saturating_mul(4));
+        if !self.fpu && perspective::is_narrow(q_min, &self.d1, &self.d2) {
+            self.e_shift |= NARROW;
+        }
     }
 
     /// Whether varyings are interpolated affinely (see [`Setup::allow_affine`]).

@@ -105,16 +105,23 @@ fn mul_i32_halves(a: i32, b: i32) -> i64 {
 #[inline(always)]
 pub(crate) fn reciprocal(d: u32) -> u32 {
     debug_assert!(d >= 1 << 31);
+    let x = reciprocal_step(d);
+    let dx = (mul_u32(d, x) >> 32) as u32;
+    let e = (dx << 1).wrapping_neg();
+    (mul_u32(x, e) >> 31) as u32
+}
+
+/// [`reciprocal`]'s estimate after its first Newton step: `≈ 2^62 / d` for `d >= 2^31`, within
+/// about 2^-17 relative, from below.
+#[inline(always)]
+fn reciprocal_step(d: u32) -> u32 {
     // The first step from the table's 16 bits `t` (`x = t·2^15`): `d x / 2^32 = d t / 2^17` and
     // `x e / 2^31 = t e / 2^16`, products of 32 by 16 bits (two halves' products without a
     // widening multiply, not four); the same integers.
     let t = RECIPROCALS[(d >> 24) as usize & 127];
     // `d x` (2^30 for 1), then `2 - d x` (2^31 for 1).
     let e = (((mul_u32_u16(d, t) >> 17) as u32) << 1).wrapping_neg();
-    let x = (mul_u32_u16(e, t) >> 16) as u32;
-    let dx = (mul_u32(d, x) >> 32) as u32;
-    let e = (dx << 1).wrapping_neg();
-    (mul_u32(x, e) >> 31) as u32
+    (mul_u32_u16(e, t) >> 16) as u32
 }
 
 /// `a · b` in full for a 16-bit `b`: two 16 x 16-bit products where there is no widening
@@ -227,6 +234,41 @@ pub(super) fn weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2]
     Some(([weight(n1), weight(n2)], high))
 }
 
+/// Whether a triangle's integer weights may come from [`narrow_weights`]: its `1/w`s within a
+/// factor of two (the smallest `q_min` at least half the largest, `1 << Q_BITS`) and every
+/// varying's differences `d1`, `d2` (vertices 1 and 2 less vertex 0) at most 2^20 units (16
+/// texels, or 16 times full light).
+#[inline(always)]
+pub(super) fn is_narrow<const V: usize>(q_min: u32, d1: &[i32; V], d2: &[i32; V]) -> bool {
+    q_min >= 1 << (Q_BITS - 1) && (0..V).all(|k| (d1[k].unsigned_abs() | d2[k].unsigned_abs()) <= 1 << 20)
+}
+
+/// [`weights`] for a triangle [`is_narrow`] allows, from 16-bit operands: every product is 16 x
+/// 16 bits (one multiply without a widening one), the reciprocal one Newton step.
+///
+/// `E_k << shift` is below 2^32 and their sum too (see [`weights`]), so their upper halves
+/// `e_k` sum to under 2^16, each off by under 1 of at least 2^15 - 3 in all; `q_k >> 16` is in
+/// `2^14..=2^15`, off by under 2^-14 relative. The sum `S = Σ e_k (q_k >> 16)` is below 2^31
+/// and at least 2^28 (no overflow, never 0 inside), the reciprocal of `S` normalised within
+/// about 2^-17, and each weight's product of upper halves within 2^-15 of `2^30` more: a
+/// weight is within about 2^-13 of the exact one, a varying within 2^7 units (1/512 texel).
+/// `S` stands for the pixel's `1/w` in [`linear_within`], alike at both ends of a run.
+#[inline(always)]
+pub(super) fn narrow_weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2], u32)> {
+    let n = |k: usize| (((e[k].max(0) as u32) << shift) >> 16) * (q[k] >> 16);
+    let (n1, n2) = (n(1), n(2));
+    let sum = n(0) + n1 + n2;
+    if sum == 0 {
+        return None;
+    }
+    // `sum << s` in `2^31..2^32`, and `x ≈ 2^62 / (sum << s)` in `2^30..=2^31`: the weight
+    // `n · 2^30 / sum = (n << s) · x / 2^32`, from the upper 16 bits of each (`n <= sum`).
+    let s = leading_zeros(sum);
+    let x = reciprocal_step(sum << s) >> 15;
+    let weight = |n: u32| ((((n << s) >> 16) * x) >> 1) as i32;
+    Some(([weight(n1), weight(n2)], sum))
+}
+
 /// `v0 + d1 · w1 + d2 · w2` for weights `w` from [`weights`], wrapping: each product's upper
 /// half (a single instruction on Cortex-M4), which drops under 2^-(32 - WEIGHT_BITS) units
 /// each (8 units of 2^-16 in all, far below a texel or a step of light).
@@ -278,12 +320,18 @@ pub(super) fn affine_within(range: u32, q_min: u32, four_tolerance: u32) -> bool
 /// rounded towards refusing: the sums' upper halves truncate them, so their difference is
 /// taken one larger (false where either is 0).
 #[inline(always)]
-pub(super) fn linear_within<const V: usize>(dv: [i32; V], (qa, qb): (u32, u32), four_tolerance: &[u32; V]) -> bool {
+pub(super) fn linear_within<const V: usize>(
+    dv: [i32; V],
+    (qa, qb): (u32, u32),
+    four_tolerance: &[u32; V],
+    narrow: bool,
+) -> bool {
     let (lo, hi) = if qa < qb { (qa, qb) } else { (qb, qa) };
     if lo == 0 {
         return false;
     }
-    let diff = (hi - lo).saturating_add(1);
+    // [`narrow_weights`]'s sums are within about 2^-13 relative of the exact ones' ratio.
+    let diff = (hi - lo).saturating_add(if narrow { 1 + (hi >> 12) } else { 1 });
     (0..V).all(|k| mul_u32(dv[k].unsigned_abs(), diff) <= mul_u32_small(lo, four_tolerance[k]))
 }
 
@@ -442,20 +490,35 @@ pub(super) mod tests {
     /// coordinates spanning up to 2^31 units, light 0..=1. Texels stay within 1/64 texel
     /// (2^10 units), light within 1/4096 (2^4 units): well inside the 1/16 texel and 1/256
     /// light the pictures are allowed, with the linear steps' own tolerance on top. Both ways:
-    /// in integers and in f32 (`Setup::use_fpu_perspective`).
+    /// in integers (narrow triangles' from 16-bit operands among them) and in f32
+    /// (`Setup::use_fpu_perspective`).
     #[test]
     fn varyings_at_is_within_the_bound_of_the_exact_value() {
         let mut rng = Lcg(0x853c_49e6_748f_ea9b);
         let window = Window { width: 1 << 12, row_start: 0, row_end: 1 << 12 };
-        let (mut worst, mut pixels) = ([0i64; 3], 0);
+        let (mut worst, mut worst_narrow, mut pixels, mut narrow) = ([0i64; 3], [0i64; 3], 0, 0);
         for t in 0..6000 {
             let extent = [1, 3, 40, 400, 1900][rng.below(5) as usize];
             let ratio = [1.0, 1.5, 10.0, 1000.0, 1000.0][rng.below(5) as usize];
             let texels = [1 << 12, 1 << 24, u32::MAX][rng.below(3) as usize];
-            let tri = triangle(&mut rng, extent, ratio, texels);
+            let mut tri = triangle(&mut rng, extent, ratio, texels);
+            if t % 4 == 0 {
+                // One base for the three texel coordinates u (`triangle` gives each its own):
+                // narrow triangles, for small `texels` and ratios.
+                for k in 1..3 {
+                    tri[k].varyings[0] = tri[0].varyings[0].wrapping_add((rng.next() % texels) as i32);
+                }
+            }
             let Ok(mut setup) = Setup::<3>::new(&tri, &window, false, false) else { continue };
             if t % 2 == 1 {
                 setup.use_fpu_perspective();
+            } else {
+                // Which decides whether the weights are narrow (the tolerance changes nothing
+                // here: `varyings_at` is exact whether affine is allowed or not).
+                setup.allow_affine([0; 3]);
+            }
+            if setup.e_shift >= super::super::NARROW && !setup.fpu {
+                narrow += 1;
             }
             // The vertices in the set-up's order (reordered for a positive area).
             let order =
@@ -470,6 +533,11 @@ pub(super) mod tests {
                     });
                     let n: [f64; 3] = core::array::from_fn(|k| e[k].max(0) as f64 * v[k].inv_w as f64);
                     let sum = n[0] + n[1] + n[2];
+                    if sum == 0.0 {
+                        // Every edge function 0 (a triangle of area 1 whose ties leave none):
+                        // no perspective value to compare with.
+                        continue;
+                    }
                     let (got, _) = setup.varyings_at(e);
                     for k in 0..3 {
                         let d = |i: usize| v[i].varyings[k].wrapping_sub(v[0].varyings[k]) as f64;
@@ -477,6 +545,9 @@ pub(super) mod tests {
                         // The difference modulo 2^32 (varyings wrap).
                         let error = (got[k] as i64 - exact.round() as i64) as i32 as i64;
                         worst[k] = worst[k].max(error.abs());
+                        if setup.e_shift >= super::super::NARROW && !setup.fpu {
+                            worst_narrow[k] = worst_narrow[k].max(error.abs());
+                        }
                         let bound = if k == 2 { 1 << 4 } else { 1 << 10 };
                         assert!(
                             error.abs() <= bound,
@@ -487,8 +558,8 @@ pub(super) mod tests {
                 }
             }
         }
-        assert!(pixels > 100_000, "{pixels} pixels");
-        std::println!("worst errors {worst:?} over {pixels} pixels");
+        assert!(pixels > 100_000 && narrow > 100, "{pixels} pixels, {narrow} narrow triangles");
+        std::println!("worst errors {worst:?} over {pixels} pixels, {worst_narrow:?} in narrow triangles");
     }
 
     /// `linear_within` never allows more than the exact bound (f64) does.
@@ -501,7 +572,7 @@ pub(super) mod tests {
             let qb = (qa as f64 * (1.0 + rng.unit() * [1e-6, 1e-3, 1e-1, 10.0][rng.below(4) as usize])) as u32;
             let dv = [rng.next() as i32 >> rng.below(32), rng.next() as i32 >> rng.below(32)];
             let tolerance = [1 << rng.below(20), 1 << rng.below(20)];
-            if linear_within(dv, (qa, qb), &tolerance) {
+            if linear_within(dv, (qa, qb), &tolerance, false) {
                 allowed += 1;
                 let ratio = qa.max(qb) as f64 / qa.min(qb) as f64 - 1.0;
                 for k in 0..2 {
