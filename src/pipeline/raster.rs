@@ -456,9 +456,13 @@ impl<const V: usize> Setup<V> {
             Some((w, sum)) => {
                 // A loop, not `array::from_fn`: that is a call of its own on Armv6-M (not
                 // inlined).
-                let mut out = self.v0;
+                let (mut out, narrow) = (self.v0, self.e_shift >= NARROW);
                 for (k, o) in out.iter_mut().enumerate() {
-                    *o = perspective::interpolate(*o, self.d1[k], self.d2[k], w);
+                    *o = if narrow {
+                        perspective::narrow_interpolate(*o, self.d1[k], self.d2[k], w)
+                    } else {
+                        perspective::interpolate(*o, self.d1[k], self.d2[k], w)
+                    };
                 }
                 (out, sum)
             }
@@ -504,13 +508,17 @@ impl<const V: usize> Setup<V> {
     /// (see [`perspective::narrow_weights`]).
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
         let q_min = self.q_min;
-        let within = (0..V).all(|k| {
+        let range = |k: usize| {
             // `max(d1, d2, 0) - min(d1, d2, 0)`: below 2^32, exact in u32.
             let (d1, d2) = (self.d1[k], self.d2[k]);
             let (hi, lo) = if d1 > d2 { (d1, d2) } else { (d2, d1) };
-            let range = hi.max(0).wrapping_sub(lo.min(0)) as u32;
-            perspective::affine_within(range, q_min, tolerance[k].saturating_mul(4))
-        });
+            hi.max(0).wrapping_sub(lo.min(0)) as u32
+        };
+        let within = (0..V).all(|k| perspective::affine_within(range(k), q_min, tolerance[k].saturating_mul(4)));
+        // Exact values are worked out only where the varyings are not affine.
+        if !within && !self.fpu && perspective::is_narrow(q_min, (0..V).map(range)) {
+            self.e_shift |= NARROW;
+        }
         let extent = (self.x1 - self.x0, self.rows_below);
         self.affine = within
             .then(|| {
@@ -523,9 +531,6 @@ impl<const V: usize> Setup<V> {
             })
             .flatten();
         self.tolerance = tolerance.map(|t| t.saturating_mul(4));
-        if !self.fpu && perspective::is_narrow(q_min, &self.d1, &self.d2) {
-            self.e_shift |= NARROW;
-        }
     }
 
     /// Whether varyings are interpolated affinely (see [`Setup::allow_affine`]).

@@ -236,22 +236,23 @@ pub(super) fn weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2]
 
 /// Whether a triangle's integer weights may come from [`narrow_weights`]: its `1/w`s within a
 /// factor of two (the smallest `q_min` at least half the largest, `1 << Q_BITS`) and every
-/// varying's differences `d1`, `d2` (vertices 1 and 2 less vertex 0) at most 2^20 units (16
-/// texels, or 16 times full light).
+/// varying's `ranges` (over its three vertices) below 2^20 units (16 texels, or 16 times full
+/// light).
 #[inline(always)]
-pub(super) fn is_narrow<const V: usize>(q_min: u32, d1: &[i32; V], d2: &[i32; V]) -> bool {
-    q_min >= 1 << (Q_BITS - 1) && (0..V).all(|k| (d1[k].unsigned_abs() | d2[k].unsigned_abs()) <= 1 << 20)
+pub(super) fn is_narrow(q_min: u32, mut ranges: impl Iterator<Item = u32>) -> bool {
+    q_min >= 1 << (Q_BITS - 1) && ranges.all(|range| range < 1 << 20)
 }
 
 /// [`weights`] for a triangle [`is_narrow`] allows, from 16-bit operands: every product is 16 x
-/// 16 bits (one multiply without a widening one), the reciprocal one Newton step.
+/// 16 bits (one multiply without a widening one), the reciprocal one Newton step; the weights
+/// in 16 fractional bits (for [`narrow_interpolate`]).
 ///
 /// `E_k << shift` is below 2^32 and their sum too (see [`weights`]), so their upper halves
 /// `e_k` sum to under 2^16, each off by under 1 of at least 2^15 - 3 in all; `q_k >> 16` is in
 /// `2^14..=2^15`, off by under 2^-14 relative. The sum `S = Σ e_k (q_k >> 16)` is below 2^31
 /// and at least 2^28 (no overflow, never 0 inside), the reciprocal of `S` normalised within
-/// about 2^-17, and each weight's product of upper halves within 2^-15 of `2^30` more: a
-/// weight is within about 2^-13 of the exact one, a varying within 2^7 units (1/512 texel).
+/// about 2^-17, and each weight's product of upper halves within 2^-15 more: a weight is
+/// within about 2^-13 of the exact one, a varying within 2^7 units (1/512 texel).
 /// `S` stands for the pixel's `1/w` in [`linear_within`], alike at both ends of a run.
 #[inline(always)]
 pub(super) fn narrow_weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2], u32)> {
@@ -262,11 +263,22 @@ pub(super) fn narrow_weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([
         return None;
     }
     // `sum << s` in `2^31..2^32`, and `x ≈ 2^62 / (sum << s)` in `2^30..=2^31`: the weight
-    // `n · 2^30 / sum = (n << s) · x / 2^32`, from the upper 16 bits of each (`n <= sum`).
+    // `n · 2^16 / sum = (n << s) · x / 2^46`, from the upper 16 bits of each (`n <= sum`).
     let s = leading_zeros(sum);
     let x = reciprocal_step(sum << s) >> 15;
-    let weight = |n: u32| ((((n << s) >> 16) * x) >> 1) as i32;
+    let weight = |n: u32| ((((n << s) >> 16) * x) >> 15) as i32;
     Some(([weight(n1), weight(n2)], sum))
+}
+
+/// `v0 + d1 · w1 + d2 · w2` for [`narrow_weights`]' weights (at most `2^16`) and differences
+/// below 2^20 in magnitude ([`is_narrow`]): `d = dh · 2^16 + dl` (`|dh| < 2^4`, `dl` below
+/// 2^16), so each product is two 16-bit ones within 32 bits (`dl · w` unsigned); truncating
+/// drops under a unit each.
+#[inline(always)]
+pub(super) fn narrow_interpolate(v0: i32, d1: i32, d2: i32, [w1, w2]: [i32; 2]) -> i32 {
+    debug_assert!((0..=1 << 16).contains(&w1) && (0..=1 << 16).contains(&w2));
+    let weighted = |d: i32, w: i32| (d >> 16) * w + (((d & 0xffff) as u32 * w as u32) >> 16) as i32;
+    v0.wrapping_add(weighted(d1, w1) + weighted(d2, w2))
 }
 
 /// `v0 + d1 · w1 + d2 · w2` for weights `w` from [`weights`], wrapping: each product's upper
@@ -503,10 +515,13 @@ pub(super) mod tests {
             let texels = [1 << 12, 1 << 24, u32::MAX][rng.below(3) as usize];
             let mut tri = triangle(&mut rng, extent, ratio, texels);
             if t % 4 == 0 {
-                // One base for the three texel coordinates u (`triangle` gives each its own):
-                // narrow triangles, for small `texels` and ratios.
+                // One base for the three texel coordinates u (`triangle` gives each its own),
+                // and both texel coordinates spanning up to the narrow weights' bound: narrow
+                // triangles, for ratios up to 2.
+                let span = [1 << 12, 1 << 19, (1 << 20) - 1][rng.below(3) as usize];
                 for k in 1..3 {
-                    tri[k].varyings[0] = tri[0].varyings[0].wrapping_add((rng.next() % texels) as i32);
+                    tri[k].varyings[0] = tri[0].varyings[0].wrapping_add((rng.next() % span) as i32);
+                    tri[k].varyings[1] = tri[0].varyings[1].wrapping_add((rng.next() % span) as i32);
                 }
             }
             let Ok(mut setup) = Setup::<3>::new(&tri, &window, false, false) else { continue };
