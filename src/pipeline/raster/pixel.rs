@@ -241,6 +241,38 @@ impl<const V: usize> RunVaryings<V> for PixelRun<V> {
     }
 }
 
+/// Perspective-correct varyings in f32 where the edge functions are `e` (negative ones count as
+/// 0), for `1/w`s `inv_w` divided by the largest, varyings `v0` at vertex 0 and their
+/// differences to vertices 1 and 2 (`d(k)` for varying `k`, in f32: converted where the caller
+/// keeps them, with no array of them made here): the weights `E_k · (1/w_k)` keep full relative
+/// precision however much the near vertex is magnified by a large depth ratio, and one division
+/// serves every varying. The sum comes back as its f32 bits (positive, so they order as the
+/// values do; 0 where every `E_k` is).
+#[inline(always)]
+pub(super) fn f32_varyings<const V: usize>(
+    e: [i32; 3],
+    inv_w: &[F32; 3],
+    v0: &[FDot16; V],
+    d: impl Fn(usize) -> (F32, F32),
+) -> ([i32; V], u32) {
+    // Non-negative, so converted as unsigned (the same value, a shorter conversion).
+    let n = |k: usize| F32::from(e[k].max(0) as u32) * inv_w[k];
+    let (n1, n2) = (n(1), n(2));
+    let sum = n(0) + n1 + n2;
+    let mut out = *v0;
+    if sum <= F32(0.0) {
+        return (out, 0);
+    }
+    let inv = F32(1.0) / sum;
+    let (b1, b2) = (n1 * inv, n2 * inv);
+    for (k, o) in out.iter_mut().enumerate() {
+        let (d1, d2) = d(k);
+        let offset = d1 * b1 + d2 * b2;
+        *o = o.wrapping_add(offset.to_i32());
+    }
+    (out, sum.0.to_bits())
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::perspective::tests::triangle;
