@@ -225,7 +225,7 @@ pub struct Setup<const V: usize> {
     q_min: u32,
     /// The left shift of edge functions for [`perspective::weights`], plus [`NARROW`] where the
     /// integer weights come from 16-bit operands ([`perspective::narrow_weights`]: `1/w`s
-    /// within a factor of two and varyings spanning at most 2^20 units, decided with the
+    /// within a factor of two and varyings spanning under 2^20 units, decided with the
     /// tolerance in [`Setup::allow_affine`]). One field, not two: the common path's set-up
     /// stays as it was.
     e_shift: u32,

@@ -9,6 +9,9 @@
 //! - The edge functions are shifted left by a per-triangle amount that puts twice the area in
 //!   `2^31..2^32`: inside the triangle `Σ E_k` is at least a third of that, so the 64-bit sum
 //!   `Σ E_k q_k` is at least `2^29 · Q_MIN` and its upper half is never 0.
+//! - A triangle whose `1/w`s lie within a factor of two and whose varyings span under 2^20
+//!   units ([`is_narrow`]) is weighed from 16-bit operands instead ([`narrow_weights`],
+//!   [`narrow_interpolate`]): 32-bit products only, one Newton step, within 2^7 units.
 //!
 //! # Precision
 //! A 1000:1 depth ratio leaves the smallest `q` 21 significant bits, a relative error of 2^-21
@@ -248,11 +251,14 @@ pub(super) fn is_narrow(q_min: u32, mut ranges: impl Iterator<Item = u32>) -> bo
 /// in 16 fractional bits (for [`narrow_interpolate`]).
 ///
 /// `E_k << shift` is below 2^32 and their sum too (see [`weights`]), so their upper halves
-/// `e_k` sum to under 2^16, each off by under 1 of at least 2^15 - 3 in all; `q_k >> 16` is in
-/// `2^14..=2^15`, off by under 2^-14 relative. The sum `S = Σ e_k (q_k >> 16)` is below 2^31
-/// and at least 2^28 (no overflow, never 0 inside), the reciprocal of `S` normalised within
-/// about 2^-17, and each weight's product of upper halves within 2^-15 more: a weight is
-/// within about 2^-13 of the exact one, a varying within 2^7 units (1/512 texel).
+/// `e_k` sum to under 2^16: exact where `shift >= 16` (twice the area below 2^16), else each
+/// off by under 1 of at least 2^15 - 3 in all; `q_k >> 16` is in `2^14..=2^15`, off by under
+/// 2^-14 relative. The sum `S = Σ e_k (q_k >> 16)` is below 2^31 (no overflow) and, for twice
+/// the area at least 4 (its `E_k` sum at least a quarter of it, the fill rule's biases apart),
+/// at least 2^27; 0 only where every `E_k` is (`None`, as [`weights`] gives). The reciprocal of
+/// `S` normalised is within about 2^-17, each weight's product of upper halves within 2^-15
+/// more (and at most 2^16): a weight is within about 2^-13 of the exact one, a varying within
+/// 2^7 units (1/512 texel).
 /// `S` stands for the pixel's `1/w` in [`linear_within`], alike at both ends of a run.
 #[inline(always)]
 pub(super) fn narrow_weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2], u32)> {
