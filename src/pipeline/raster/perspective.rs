@@ -598,7 +598,7 @@ pub(super) mod tests {
         let mut allowed = [0; 2];
         for t in 0..400_000 {
             let narrow = t % 2 == 1;
-            let qa = rng.next() >> (rng.below(32) + u32::from(narrow));
+            let qa = (rng.next() >> u32::from(narrow)) >> rng.below(32);
             let qb = (qa as f64 * (1.0 + rng.unit() * [1e-6, 1e-3, 1e-1, 10.0][rng.below(4) as usize])) as u32;
             let qb = if narrow { qb.min((1 << 31) - 1) } else { qb };
             let dv = [rng.next() as i32 >> rng.below(32), rng.next() as i32 >> rng.below(32)];
