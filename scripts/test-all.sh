@@ -7,6 +7,24 @@ cd "$(dirname "$0")/.."
 # Each step prints the seconds since the start: CI must stay under 30 minutes.
 started=$SECONDS
 step() { printf '\n==> [%ss] %s\n' "$((SECONDS - started))" "$*"; }
+# A step that mostly waits on one core (a single-threaded link, QEMU, libFuzzer) runs beside
+# another such: `background CMD...` starts it with its output kept, `finish` waits for it, then
+# prints that output and stops the script if it failed.
+background() {
+  bg_log="$(mktemp)"
+  "$@" >"$bg_log" 2>&1 &
+  bg_pid=$!
+}
+finish() {
+  local status=0
+  wait "$bg_pid" || status=$?
+  cat "$bg_log"
+  rm -f "$bg_log"
+  if [ "$status" -ne 0 ]; then
+    echo "background step failed (status $status)" >&2
+    exit "$status"
+  fi
+}
 
 step "toolchain targets"
 rustup target add thumbv6m-none-eabi thumbv7em-none-eabihf riscv32imc-unknown-none-elf
@@ -59,8 +77,8 @@ for t in thumbv6m-none-eabi thumbv7em-none-eabihf riscv32imc-unknown-none-elf; d
   cargo build --release --lib --target "$t"
 done
 
-step "demo, headless"
-cargo run --release --example simulator -- --headless --frames 4
+step "demo, headless (beside the short fuzz; its output after it)"
+background cargo run --release --example simulator -- --headless --frames 4
 
 step "short fuzz of every target (debug assertions on; installs cargo-fuzz)"
 for target in parse babylon draw buffers; do
@@ -68,20 +86,30 @@ for target in parse babylon draw buffers; do
   scripts/fuzz.sh "$target" 30
 done
 
+step "demo, headless: its output"
+finish
+
 if [ -x scripts/qemu-check.sh ]; then
   step "QEMU firmware (Cortex-M4F, thumbv6m, riscv32imc) and the host comparison"
   scripts/qemu-check.sh
   SOFT3D_REQUIRE_QEMU=1 cargo test --release --test qemu_frame -- --nocapture
 fi
 
+boards=""
 if [ -x scripts/build-boards.sh ]; then
-  step "board firmware builds (RP2040, STM32F411)"
-  scripts/build-boards.sh
+  step "board firmware builds (RP2040, STM32F411), beside the instruction counts; their output after them"
+  background scripts/build-boards.sh
+  boards=1
 fi
 
 if [ -x benches/mcu.sh ]; then
   step "MCU instruction counts"
   benches/mcu.sh
+fi
+
+if [ -n "$boards" ]; then
+  step "board firmware builds: their output"
+  finish
 fi
 
 step "all checks passed"

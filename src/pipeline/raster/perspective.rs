@@ -262,9 +262,11 @@ pub(super) fn is_narrow(q_min: u32, mut ranges: impl Iterator<Item = u32>) -> bo
 /// `S` stands for the pixel's `1/w` in [`linear_within`], alike at both ends of a run.
 #[inline(always)]
 pub(super) fn narrow_weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([i32; 2], u32)> {
+    // Each below 2^31 (`q_k <= 2^31`), and (inside the triangle) their sum too; wrapping
+    // outside, as in `weights`.
     let n = |k: usize| (((e[k].max(0) as u32) << shift) >> 16) * (q[k] >> 16);
     let (n1, n2) = (n(1), n(2));
-    let sum = n(0) + n1 + n2;
+    let sum = n(0).wrapping_add(n1).wrapping_add(n2);
     if sum == 0 {
         return None;
     }
@@ -283,7 +285,7 @@ pub(super) fn narrow_weights(e: [i32; 3], shift: u32, q: &[u32; 3]) -> Option<([
 #[inline(always)]
 pub(super) fn narrow_interpolate(v0: i32, d1: i32, d2: i32, [w1, w2]: [i32; 2]) -> i32 {
     debug_assert!((0..=1 << 16).contains(&w1) && (0..=1 << 16).contains(&w2));
-    let weighted = |d: i32, w: i32| (d >> 16) * w + (((d & 0xffff) as u32 * w as u32) >> 16) as i32;
+    let weighted = |d: i32, w: i32| (d >> 16) * w + (((d & 0xffff) as u32).wrapping_mul(w as u32) >> 16) as i32;
     v0.wrapping_add(weighted(d1, w1) + weighted(d2, w2))
 }
 
