@@ -247,18 +247,24 @@ pub(crate) const SPREAD565_HALF: u32 = 16 << 21 | 16 << 11 | 16;
 #[inline(always)]
 #[must_use]
 pub(crate) fn modulate565_white(texel: u16, light: i32) -> u16 {
-    modulate565_white_with(texel, light, [SPREAD565, SPREAD565_HALF])
+    modulate565_white_with(texel, light.wrapping_add(WHITE_LIGHT_BIAS), [SPREAD565, SPREAD565_HALF])
 }
 
-/// [`modulate565_white`] given its two constants, `[SPREAD565, SPREAD565_HALF]`: a loop that
-/// loads them (one instruction for both) need not build each from two halves per pixel.
+/// What [`modulate565_white_with`] takes added to the light: half of the 1/32 it rounds the
+/// light to. Added once a triangle to its corners' light (interpolation carries a constant
+/// through unchanged) instead of at every pixel.
+pub(crate) const WHITE_LIGHT_BIAS: i32 = 1 << 10;
+
+/// [`modulate565_white`] of the light `biased` less [`WHITE_LIGHT_BIAS`], given its two
+/// constants, `[SPREAD565, SPREAD565_HALF]`: a loop that loads them (one instruction for both)
+/// need not build each from two halves per pixel.
 #[inline(always)]
 #[must_use]
-pub(crate) fn modulate565_white_with(texel: u16, light: i32, [spread565, half]: [u32; 2]) -> u16 {
+pub(crate) fn modulate565_white_with(texel: u16, biased: i32, [spread565, half]: [u32; 2]) -> u16 {
     debug_assert!([spread565, half] == [SPREAD565, SPREAD565_HALF]);
-    // Clamped to 6 bits: one instruction (usat, shift included) on Cortex-M. Wrapping: light
-    // far below 0 gives 0 either way.
-    let level = (light.wrapping_add(1 << 10) >> 11).clamp(0, 63) as u32;
+    // Rounded by the bias, clamped to 6 bits: one instruction (usat, shift included) on
+    // Cortex-M. Light far below 0 gives 0 either way.
+    let level = (biased >> 11).clamp(0, 63) as u32;
     let t = u32::from(texel);
     let spread = (t | t << 16) & spread565;
     let lit = spread.wrapping_mul(level).wrapping_add(half) >> 5 & spread565;

@@ -17,7 +17,7 @@ use crate::fixed::FDot16;
 
 use crate::light::PixelLights;
 use crate::target::{Band, DepthBuffer, FrameColor};
-use crate::texture::{modulate, SPREAD565, SPREAD565_HALF};
+use crate::texture::{modulate, SPREAD565, SPREAD565_HALF, WHITE_LIGHT_BIAS};
 
 /// Where a fragment's light comes from.
 pub(super) trait Lighting {
@@ -35,6 +35,9 @@ pub(super) trait Lighting {
     fn highlight<const V: usize>(&self, _v: &[i32; V]) -> [u8; 3] {
         [0; 3]
     }
+    /// What this lighting takes added to the light varying (see [`White`]): added to a
+    /// triangle's corners once, carried unchanged by interpolation.
+    const LIGHT_BIAS: FDot16 = 0;
 }
 
 /// Light interpolated from the vertices (unlit, flat, Gouraud).
@@ -54,15 +57,18 @@ struct White([u32; 2]);
 impl Lighting for White {
     #[inline(always)]
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
-        VertexLit::white(v)
+        VertexLit::white(v).map(|l| l.wrapping_sub(Self::LIGHT_BIAS))
     }
     #[inline(always)]
     fn lit_rgb565<C: FrameColor, const V: usize>(&self, texel: u16, v: &[FDot16; V]) -> C {
-        let light = v[VertexLit::LIGHT];
+        let biased = v[VertexLit::LIGHT];
         // Interpolated from vertex lights in 0..=1 (see `texture::modulate565_white`).
-        debug_assert!((-1 << 10..(1 << 16) + (1 << 10)).contains(&light), "interpolated light {light}");
-        C::from_white_lit_rgb565_with(texel, light, self.0)
+        debug_assert!((0..(1 << 16) + (1 << 11)).contains(&biased), "interpolated light {biased} (biased)");
+        C::from_white_lit_rgb565_with(texel, biased, self.0)
     }
+    /// The RGB565 modulation's rounding (see `texture::modulate565_white_with`): one addition
+    /// a triangle corner instead of one a pixel.
+    const LIGHT_BIAS: FDot16 = WHITE_LIGHT_BIAS;
 }
 
 /// [`Interpolated`] plus an interpolated specular intensity of this colour.
@@ -404,7 +410,14 @@ where
 {
     let (base, lighting) = (K::of(surface).ok_or(Reject::Empty)?, &Lk::of(ctx));
     let (window, subspan, fpu) = (&ctx.window, ctx.opts.subspan, !ctx.opts.fixed_vertices);
-    let tri = &tri.corners::<V>();
+    let mut tri = tri.corners::<V>();
+    let bias = <Lk::Lighting<'_> as Lighting>::LIGHT_BIAS;
+    if bias != 0 {
+        for c in &mut tri {
+            c.v[VertexLit::LIGHT] = c.v[VertexLit::LIGHT].wrapping_add(bias);
+        }
+    }
+    let tri = &tri;
     let area = match winding.area {
         Some(area) => area,
         None => facing_of(tri.each_ref().map(|c| (c.x, c.y, c.inv_w)), winding.cull_back, winding.flip)?,
@@ -475,6 +488,10 @@ fn draw<C: FrameColor, R: RunCells, B: Base, Lt: Lighting, const V: usize, const
 ) -> (u32, u32, u32) {
     let walk = B::WALK_ROWS && !DITHER;
     setup.allow_affine(*tolerance);
+    if let Some(rows) = setup.affine_rows(z).filter(|_| walk) {
+        shader.draw_affine_rows(rows);
+        return (shader.written, shader.rejected, shader.runs);
+    }
     let pixel = fpu && walk && !setup.is_affine();
     if !(pixel && shader.draw_pixel_rows(setup, z, tolerance)) {
         match if walk { setup.walked_rows(subspan, z) } else { None } {

@@ -60,7 +60,7 @@ pub use facing::{facing, MAX_COORD, MAX_EXTENT};
 pub(crate) use perspective::{leading_zeros, mul_i32, mul_u32, reciprocal};
 use perspective::{Q_BITS, Q_MIN};
 use pixel::f32_varyings;
-pub(crate) use rows::{WalkedRow, WalkedRows};
+pub(crate) use rows::{AffineRows, WalkedRow, WalkedRows};
 #[cfg(not(soft_float))]
 pub(crate) use small::{SmallTriangle, SMALL_BOX};
 use walk::RowWalk;

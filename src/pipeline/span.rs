@@ -14,7 +14,7 @@
 #![allow(unsafe_code)]
 
 use super::fragment::Lighting;
-use super::raster::{step_varyings, Setup, Span, SpanSink, WalkedRow, WalkedRows};
+use super::raster::{step_varyings, AffineRows, Setup, Span, SpanSink, WalkedRow, WalkedRows};
 use super::varyings::{texel_coordinates, VertexLit};
 use crate::fixed::{Depth30, FDot16};
 use crate::format::{decode_texel, TextureFormat};
@@ -313,6 +313,21 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
 }
 
 impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
+    /// Draws an affine triangle's rows (see [`AffineRows`]): the runs [`Shader::draw_rows`]
+    /// would draw for it, from a loop of their own (out of line: its registers are not shared
+    /// with the set-up's or with the exact rows' cuts).
+    #[inline(never)]
+    pub(super) fn draw_affine_rows<const V: usize>(&mut self, mut rows: AffineRows<'_, V>) {
+        let dz = rows.dz;
+        // See `draw_rows`.
+        let base = *self.base;
+        while let Some(row) = rows.next_row() {
+            if let Some((y, x, len, z, v, dv)) = row {
+                self.run(&base, (x, y, len), (z, dz), Stepped(v, dv));
+            }
+        }
+    }
+
     /// Draws `setup`'s rows with perspective at every pixel when its bound allows for
     /// `tolerance` and its vertices' depths `z` for that (see [`Setup::pixel_rows`]); whether
     /// it did. Out of line without an FPU,

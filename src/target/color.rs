@@ -37,13 +37,15 @@ pub trait FrameColor: Copy {
     fn from_white_lit_rgb565(texel: u16, light: i32) -> Self {
         Self::from_lit_rgb565(texel, [light; 3])
     }
-    /// [`FrameColor::from_white_lit_rgb565`] given the constants RGB565 formats use for it
-    /// (see `texture::modulate565_white_with`); others ignore them.
+    /// [`FrameColor::from_white_lit_rgb565`] of the light `biased` less 2^10 (the rounding
+    /// bias the draw adds to a triangle's corners, see `texture::WHITE_LIGHT_BIAS`), given the
+    /// constants RGB565 formats use for it (see `texture::modulate565_white_with`); others
+    /// ignore them.
     #[doc(hidden)]
     #[inline(always)]
-    fn from_white_lit_rgb565_with(texel: u16, light: i32, constants: [u32; 2]) -> Self {
+    fn from_white_lit_rgb565_with(texel: u16, biased: i32, constants: [u32; 2]) -> Self {
         let _ = constants;
-        Self::from_white_lit_rgb565(texel, light)
+        Self::from_white_lit_rgb565(texel, biased.wrapping_sub(crate::texture::WHITE_LIGHT_BIAS))
     }
 }
 
@@ -131,9 +133,9 @@ impl FrameColor for Rgb565 {
         )))
     }
     #[inline(always)]
-    fn from_white_lit_rgb565_with(texel: u16, light: i32, constants: [u32; 2]) -> Self {
+    fn from_white_lit_rgb565_with(texel: u16, biased: i32, constants: [u32; 2]) -> Self {
         Rgb565::from(embedded_graphics_core::pixelcolor::raw::RawU16::new(crate::texture::modulate565_white_with(
-            texel, light, constants,
+            texel, biased, constants,
         )))
     }
 }
@@ -197,8 +199,8 @@ impl FrameColor for Rgb565Be {
         Rgb565Be(crate::texture::modulate565_white(texel, light).to_be_bytes())
     }
     #[inline(always)]
-    fn from_white_lit_rgb565_with(texel: u16, light: i32, constants: [u32; 2]) -> Self {
-        Rgb565Be(crate::texture::modulate565_white_with(texel, light, constants).to_be_bytes())
+    fn from_white_lit_rgb565_with(texel: u16, biased: i32, constants: [u32; 2]) -> Self {
+        Rgb565Be(crate::texture::modulate565_white_with(texel, biased, constants).to_be_bytes())
     }
     #[inline]
     fn to_rgb888(self) -> [u8; 3] {

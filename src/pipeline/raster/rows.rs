@@ -187,6 +187,44 @@ impl RowCursor {
     }
 }
 
+/// An affine triangle's rows, walked by the span loop itself (see [`Setup::affine_rows`]): the
+/// runs of [`WalkedRows`] for such a triangle, from a loop that has no exact rows to cut.
+pub(crate) struct AffineRows<'s, const V: usize> {
+    setup: &'s Setup<V>,
+    planes: &'s super::AffinePlanes<V>,
+    cursor: RowCursor,
+    /// The per-pixel depth step in 2.30.
+    pub(crate) dz: i32,
+}
+
+impl<const V: usize> Setup<V> {
+    /// [`Setup::walked_rows`] of an affine triangle; `None` for any other, or where that is.
+    #[inline(always)]
+    pub(crate) fn affine_rows(&self, z: [f32; 3]) -> Option<AffineRows<'_, V>> {
+        let planes = self.affine.as_ref()?;
+        let cursor = match self.row_cursor_inside(z) {
+            Some(cursor) => cursor,
+            None => self.row_cursor()?,
+        };
+        Some(AffineRows { setup: self, planes, dz: cursor.dz, cursor })
+    }
+}
+
+impl<const V: usize> AffineRows<'_, V> {
+    /// The next row, `None` after the last; `Some(None)` for a row with no pixel centre
+    /// covered: frame row and column, pixels, depth (2.30), varyings at its first pixel and
+    /// their steps.
+    #[inline(always)]
+    pub(crate) fn next_row(&mut self) -> Option<Option<(i32, i32, u32, Depth30, [FDot16; V], [FDot16; V])>> {
+        let s = self.setup;
+        let Some(CoveredRow { y, dy, lo, hi, z }) = self.cursor.next_row(s)? else {
+            return Some(None);
+        };
+        let (v, dv) = self.planes.at(lo, dy);
+        Some(Some((y, s.x0 + lo, (hi + 1 - lo) as u32, z, v, dv)))
+    }
+}
+
 /// A triangle's rows, walked by the span loop itself (see [`Setup::walked_rows`]): the same
 /// spans as [`Setup::for_each_span`] hands out, bit for bit, without a call or a [`Span`] in
 /// memory per run.
