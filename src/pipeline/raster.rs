@@ -475,6 +475,7 @@ impl<const V: usize> Setup<V> {
     /// With equal `1/w` everywhere (e.g. an orthographic camera) affine is exact and always used.
     /// Exact values in integers come from 16-bit operands after this where the triangle allows
     /// (see [`perspective::narrow_weights`]).
+    #[cfg_attr(not(soft_float), inline(always))]
     pub fn allow_affine(&mut self, tolerance: [u32; V]) {
         let q_min = self.q_min;
         let range = |k: usize| {
