@@ -111,6 +111,7 @@ impl<const V: usize> Setup<V> {
     /// error bound is within `tolerance[k]` units for every varying `k` (powers of two from 4
     /// to 2^12) and the depths `z` of its vertices lie within `2^-10 ..= 1 - 2^-10` (see
     /// [`Setup::row_cursor_inside`]); `None` otherwise.
+    #[inline(always)]
     pub(crate) fn pixel_rows(&self, z: [f32; 3], tolerance: &[u32; V], v_shift: u32) -> Option<PixelRows<'_, V>> {
         let per_unit = self.pixel_error_scale()?;
         // `x ^ (x >> 31)` is `|x|` or `|x| - 1` (one instruction).
