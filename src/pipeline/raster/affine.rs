@@ -43,15 +43,16 @@ impl<const V: usize> AffinePlanes<V> {
         (v0, d1, d2): (&[i32; V], &[F32; V], &[F32; V]),
         extent: (i32, i32),
     ) -> Option<Self> {
-        let inv_area = F32(1.0) / area;
+        // The terms in 24.8: times 256, a power of two, which commutes with every rounding
+        // below (no overflow: `d` is below 2^39 and the weights below 2^32), so it is taken
+        // once here rather than on each difference (no soft-float multiply without an FPU).
+        let inv_area = F32(times_power_of_two((F32(1.0) / area).0, 256.0));
         let per_pixel = |c: i32| F32::from(c * 16) * inv_area;
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), F32::from(edges[1].c) * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), F32::from(edges[2].c) * inv_area);
         let mut p = AffinePlanes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
         for k in 0..V {
-            // Times 256 exactly (a power of two: no soft-float multiply without an FPU).
-            let (d1, d2) = (times_power_of_two(d1[k].0, 256.0), times_power_of_two(d2[k].0, 256.0));
-            let (d1, d2) = (F32(d1), F32(d2));
+            let (d1, d2) = (d1[k], d2[k]);
             // Relative to vertex 0's value, added back in integers: large values (e.g. world
             // positions) keep their precision. Truncating (saturating: a saturated value fails
             // the bound): under one unit of 2^-8 off. Finite: `d` is below 2^39 and the weights
