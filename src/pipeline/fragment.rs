@@ -107,7 +107,6 @@ pub(crate) enum Corners<'a> {
 impl Corners<'_> {
     /// The corners as the set-up of a variant of `V` varyings reads them: from the cache, only
     /// those `V` (no screen vertex built).
-    #[inline(always)]
     fn corners<const V: usize>(self) -> [Corner<V>; 3] {
         match self {
             Corners::Screen(tri) => tri.each_ref().map(Corner::of),

@@ -37,6 +37,7 @@ impl<const V: usize> AffinePlanes<V> {
     /// leave i32 somewhere in `0..=width` by `0..=height` pixels from the origin (needle
     /// triangles with huge gradients): those keep per-run exact values. See
     /// [`AffinePlanes::in_integers`] for the planes without float.
+    #[inline(always)]
     pub(super) fn new(
         edges: &[Edge; 3],
         area: F32,

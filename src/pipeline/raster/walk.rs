@@ -95,7 +95,6 @@ impl RowWalk {
 
     /// The current row's covered columns `(lo, hi)` within `0..=last` (empty when `lo > hi`),
     /// then on to the next row.
-    #[inline(always)]
     pub(super) fn next_row(&mut self, last: i32) -> (i32, i32) {
         let span = if self.to_mid == 0 {
             self.middle_row(last)
