@@ -189,6 +189,10 @@ impl RowCursor {
     }
 }
 
+/// One covered row of [`AffineRows`]: frame row and column, pixels, depth (2.30) at its first
+/// pixel, the varyings there and their steps.
+pub(crate) type AffineRow<const V: usize> = (i32, i32, u32, Depth30, [FDot16; V], [FDot16; V]);
+
 /// An affine triangle's rows, walked by the span loop itself (see [`Setup::affine_rows`]): the
 /// runs of [`WalkedRows`] for such a triangle, from a loop that has no exact rows to cut.
 pub(crate) struct AffineRows<'s, const V: usize> {
@@ -214,10 +218,9 @@ impl<const V: usize> Setup<V> {
 
 impl<const V: usize> AffineRows<'_, V> {
     /// The next row, `None` after the last; `Some(None)` for a row with no pixel centre
-    /// covered: frame row and column, pixels, depth (2.30), varyings at its first pixel and
-    /// their steps.
+    /// covered.
     #[inline(always)]
-    pub(crate) fn next_row(&mut self) -> Option<Option<(i32, i32, u32, Depth30, [FDot16; V], [FDot16; V])>> {
+    pub(crate) fn next_row(&mut self) -> Option<Option<AffineRow<V>>> {
         let s = self.setup;
         let Some(CoveredRow { y, dy, lo, hi, z }) = self.cursor.next_row(s)? else {
             return Some(None);
