@@ -318,12 +318,22 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
     /// with the set-up's or with the exact rows' cuts).
     #[inline(never)]
     pub(super) fn draw_affine_rows<const V: usize>(&mut self, mut rows: AffineRows<'_, V>) {
-        let dz = rows.dz;
+        self.draw_runs(rows.dz, || rows.next_row());
+    }
+
+    /// Draws the rows `next_row` gives, each one run (`None` after the last, `Some(None)` for a
+    /// row with no pixel centre covered), depth stepping by `dz`.
+    #[inline(always)]
+    fn draw_runs<const V: usize, R: RunVaryings<V>>(
+        &mut self,
+        dz: i32,
+        mut next_row: impl FnMut() -> Option<Option<RunRow<R>>>,
+    ) {
         // See `draw_rows`.
         let base = *self.base;
-        while let Some(row) = rows.next_row() {
-            if let Some((y, x, len, z, v, dv)) = row {
-                self.run(&base, (x, y, len), (z, dz), Stepped(v, dv));
+        while let Some(row) = next_row() {
+            if let Some((at, z, vary)) = row {
+                self.run(&base, at, (z, dz), vary);
             }
         }
     }
@@ -345,17 +355,14 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         let Some(rows) = &mut pixel_rows else {
             return false;
         };
-        let dz = rows.dz();
-        // See `draw_rows`.
-        let base = *self.base;
-        while let Some(row) = rows.next_row() {
-            if let Some((at, z, run)) = row {
-                self.run(&base, at, (z, dz), run);
-            }
-        }
+        self.draw_runs(rows.dz(), || rows.next_row());
         true
     }
 }
+
+/// A row of one run as the walks that give whole rows hand it over: frame column, row and
+/// pixels, depth (2.30) at the first pixel, and the varyings along it.
+pub(super) type RunRow<R> = ((i32, i32, u32), Depth30, R);
 
 /// The lit colour of the fragment with varyings `v` at `(x, y)`, or `None` where the texture
 /// cuts it out.

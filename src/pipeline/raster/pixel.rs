@@ -29,9 +29,9 @@
 use super::perspective::{Q_BITS, Q_MIN};
 use super::rows::{CoveredRow, RowCursor};
 use super::Setup;
-use crate::fixed::{Depth30, FDot16};
+use crate::fixed::FDot16;
 use crate::math::{times_power_of_two, F32};
-use crate::pipeline::span::RunVaryings;
+use crate::pipeline::span::{RunRow, RunVaryings};
 use crate::pipeline::varyings::VertexLit;
 
 /// An affine function of the pixel: its value at the box's origin pixel and its steps per
@@ -100,10 +100,6 @@ pub(crate) struct PixelRun<const V: usize> {
     /// The left shift of texel coordinate `v` in these values.
     shift: u32,
 }
-
-/// One covered row of [`PixelRows`]: frame column and row, pixels, depth (2.30) at the first,
-/// and the varyings along it.
-pub(crate) type PixelRow<const V: usize> = ((i32, i32, u32), Depth30, PixelRun<V>);
 
 impl<const V: usize> Setup<V> {
     /// This triangle's rows with perspective worked out at every pixel in f32 (see the module's
@@ -201,7 +197,7 @@ impl<const V: usize> PixelRows<'_, V> {
     /// The next row, `None` after the last; `Some(None)` for a row with no pixel centre
     /// covered.
     #[inline(always)]
-    pub(crate) fn next_row(&mut self) -> Option<Option<PixelRow<V>>> {
+    pub(crate) fn next_row(&mut self) -> Option<Option<RunRow<PixelRun<V>>>> {
         let setup = self.setup;
         let Some(CoveredRow { y, dy, lo, hi, z }) = self.cursor.next_row(setup)? else {
             return Some(None);

@@ -10,6 +10,7 @@ use super::Span;
 use super::{RowWalk, Setup, SpanSink};
 use crate::fixed::{depth40_to_30, Depth30, FDot16};
 use crate::math::mul_wide;
+use crate::pipeline::span::{RunRow, Stepped};
 
 /// The bits of `2^-10` and of `1 - 2^-10` (see [`Setup::row_cursor_inside`]).
 const F32_DEPTH_MIN: u32 = 0x3a80_0000;
@@ -189,10 +190,6 @@ impl RowCursor {
     }
 }
 
-/// One covered row of [`AffineRows`]: frame row and column, pixels, depth (2.30) at its first
-/// pixel, the varyings there and their steps.
-pub(crate) type AffineRow<const V: usize> = (i32, i32, u32, Depth30, [FDot16; V], [FDot16; V]);
-
 /// An affine triangle's rows, walked by the span loop itself (see [`Setup::affine_rows`]): the
 /// runs of [`WalkedRows`] for such a triangle, from a loop that has no exact rows to cut.
 pub(crate) struct AffineRows<'s, const V: usize> {
@@ -220,13 +217,13 @@ impl<const V: usize> AffineRows<'_, V> {
     /// The next row, `None` after the last; `Some(None)` for a row with no pixel centre
     /// covered.
     #[inline(always)]
-    pub(crate) fn next_row(&mut self) -> Option<Option<AffineRow<V>>> {
+    pub(in crate::pipeline) fn next_row(&mut self) -> Option<Option<RunRow<Stepped<V>>>> {
         let s = self.setup;
         let Some(CoveredRow { y, dy, lo, hi, z }) = self.cursor.next_row(s)? else {
             return Some(None);
         };
         let (v, dv) = self.planes.at(lo, dy);
-        Some(Some((y, s.x0 + lo, (hi + 1 - lo) as u32, z, v, dv)))
+        Some(Some(((s.x0 + lo, y, (hi + 1 - lo) as u32), z, Stepped(v, dv))))
     }
 }
 
