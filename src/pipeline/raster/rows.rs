@@ -201,7 +201,8 @@ pub(crate) struct AffineRows<'s, const V: usize> {
 }
 
 impl<const V: usize> Setup<V> {
-    /// [`Setup::walked_rows`] of an affine triangle; `None` for any other, or where that is.
+    /// [`Setup::walked_rows`] of an affine triangle; `None` for a triangle that is not affine
+    /// or whose runs' depth is not provably within range (see there).
     #[inline(always)]
     pub(crate) fn affine_rows(&self, z: [f32; 3]) -> Option<AffineRows<'_, V>> {
         let planes = self.affine.as_ref()?;
