@@ -335,6 +335,20 @@ mod tests {
             let mut old = Collect(Vec::new());
             setup.for_each_span(subspan, &mut old);
             assert_eq!(walked, old.0, "{tri:?} in {window:?}, subspan {subspan}");
+            // An affine triangle's own loop (`AffineRows`) gives the same runs too.
+            let affine = setup.affine_rows(tri.each_ref().map(|v| v.z)).map(|mut rows| {
+                let mut runs = Vec::new();
+                while let Some(row) = rows.next_row() {
+                    if let Some(((x, y, len), z, Stepped(v, dv))) = row {
+                        runs.push(Span { y, x, len, z, dz: rows.dz, v, dv });
+                    }
+                }
+                runs
+            });
+            assert_eq!(affine.is_some(), setup.is_affine(), "{tri:?} in {window:?}");
+            if let Some(affine) = affine {
+                assert_eq!(affine, old.0, "{tri:?} in {window:?}: affine rows");
+            }
             if setup.is_affine() {
                 walked_affine += 1;
             } else {
