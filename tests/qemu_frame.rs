@@ -51,11 +51,11 @@ fn reference_frame_covers_the_reference_pixel_count() {
 /// FNV-1a (64 bits) of the frames the firmware writes: the M4F frame recorded when small
 /// triangles (`raster::small`, exact varyings at every pixel) grew from boxes of up to 24 pixel
 /// centres to 32 (6 pixels differ from the frame before, by at most 2 RGB565 steps: those
-/// triangles' pixels had affine varyings within 1/16 texel, now exact ones), the thumbv6m one when its integer perspective
-/// (`raster/perspective.rs`, within 1/64 texel of the exact value) began to weigh triangles
-/// with narrow ranges from 16-bit operands (2 pixels differ from the frame before, by 1 RGB565
-/// step). The QEMU
-/// frames must equal the host's rendering, and that rendering must not change unnoticed.
+/// triangles' pixels had affine varyings within 1/16 texel, now exact ones), the thumbv6m one
+/// when its integer perspective (`raster/perspective.rs`, within 1/64 texel of the exact value)
+/// began to weigh triangles with narrow ranges from 16-bit operands (2 pixels differ from the
+/// frame before, by 1 RGB565 step). The QEMU frames must equal the host's rendering, and that
+/// rendering must not change unnoticed.
 const RECORDED_FRAMES: [(&str, u64); 2] =
     [("qemu-frame-m4.rgb565", 0x4388_b267_020d_737c), ("qemu-frame-m0.rgb565", 0x0dd6_37c8_3039_8d30)];
 
