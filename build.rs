@@ -3,11 +3,15 @@
 //! integers in integer code instead of calling the soft-float library (see `math::to_i32`),
 //! and `cfg(no_hw_divide)` on targets without a divide instruction (Armv6-M and Armv8-M
 //! Baseline, RISC-V without the `m` extension), where the rasterizer walks edges without
-//! dividing (see `pipeline/raster/walk.rs`).
+//! dividing (see `pipeline/raster/walk.rs`), and `cfg(span_asm)` on Armv7-M and Armv8-M
+//! Mainline (Thumb-2 with `usat` and `mla`), where the span loop draws the common variant in
+//! assembly (see `pipeline/span.rs`), unless the feature `checked-spans` asks for the checked
+//! Rust loop.
 
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(soft_float)");
     println!("cargo::rustc-check-cfg=cfg(no_hw_divide)");
+    println!("cargo::rustc-check-cfg=cfg(span_asm)");
     let var = |name: &str| std::env::var(name).unwrap_or_default();
     let (arch, abi, features) =
         (var("CARGO_CFG_TARGET_ARCH"), var("CARGO_CFG_TARGET_ABI"), var("CARGO_CFG_TARGET_FEATURE"));
@@ -19,5 +23,9 @@ fn main() {
     let armv6m_or_v8m_base = target.starts_with("thumbv6m") || target.starts_with("thumbv8m.base");
     if armv6m_or_v8m_base || (arch.starts_with("riscv") && !features.split(',').any(|f| f == "m")) {
         println!("cargo::rustc-cfg=no_hw_divide");
+    }
+    let thumb2 = ["thumbv7m", "thumbv7em", "thumbv8m.main"].iter().any(|t| target.starts_with(t));
+    if thumb2 && std::env::var_os("CARGO_FEATURE_CHECKED_SPANS").is_none() {
+        println!("cargo::rustc-cfg=span_asm");
     }
 }

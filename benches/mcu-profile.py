@@ -33,7 +33,7 @@ import sys
 STAGES = [
     ("pixel loop (depth test, texel, light, store)", ["SpanSink", "Shader$LT$C$C$D$C$B$C$Lt$C$_$GT$::run", "fragment::lit_fragment"]),
     ("rows and spans (edges, plane or exact varyings per run)", ["for_each_span", "raster::Setup<_>::emit", "WalkedRows", "draw_rows", "linear_row", "exact_row",
-                                                                 "PixelRows", "RowCursor", "draw_pixel_rows"]),
+                                                                 "PixelRows", "RowCursor", "draw_pixel_rows", "draw_affine_rows"]),
     ("triangle set-up (edges, depth plane, affine test)", ["Setup", "SmallTriangle", "raster::facing", "AffinePlanes"]),
     ("lighting per vertex", ["Lights", "light::sum_lights", "OneFixedLight", "sqrtf"]),
     ("clipping and projection", ["clip_triangle", "clip::classify", "clip::cut", "draw_clipped", "project",

@@ -38,6 +38,11 @@ pub(super) trait Lighting {
     /// What this lighting takes added to the light varying (see [`White`]): added to a
     /// triangle's corners once, carried unchanged by interpolation.
     const LIGHT_BIAS: FDot16 = 0;
+    /// Whether [`Lighting::lit_rgb565`] is `texture::modulate565_white_with` of varying
+    /// `VertexLit::LIGHT` with `[SPREAD565, SPREAD565_HALF]` (as [`White`]'s is): the span
+    /// loop's assembly draws that variant itself (see `span::Run565`).
+    #[cfg_attr(not(span_asm), allow(dead_code, reason = "only the span loop's assembly asks"))]
+    const WHITE_RGB565: bool = false;
 }
 
 /// Light interpolated from the vertices (unlit, flat, Gouraud).
@@ -69,6 +74,7 @@ impl Lighting for White {
     /// The RGB565 modulation's rounding (see `texture::modulate565_white_with`): one addition
     /// a triangle corner instead of one a pixel.
     const LIGHT_BIAS: FDot16 = WHITE_LIGHT_BIAS;
+    const WHITE_RGB565: bool = true;
 }
 
 /// [`Interpolated`] plus an interpolated specular intensity of this colour.
@@ -363,17 +369,7 @@ macro_rules! with_shader {
         let (area, pixels, color) = (band.area(), band.color.len(), &mut *band.color);
         macro_rules! shader {
             ($depth:expr) => {
-                Shader::<C, _, _, _, $dither> {
-                    area,
-                    color,
-                    depth: $depth,
-                    base: $base,
-                    v_shift: $base.v_shift(),
-                    lighting: $lighting,
-                    written: 0,
-                    rejected: 0,
-                    runs: 0,
-                }
+                Shader::<C, _, _, _, $dither>::new((area, color, $depth), $base, $lighting)
             };
         }
         match band.depth.as_u16() {

@@ -28,6 +28,7 @@ pub(crate) mod raster;
 mod scratch;
 mod sort;
 mod span;
+pub(crate) use span::rgb565_values;
 mod triangles;
 mod varyings;
 mod vertex;

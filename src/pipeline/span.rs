@@ -11,6 +11,13 @@
 //! `// SAFETY:` line. The feature `checked-spans` builds the checked twin instead (the same
 //! code with the bounds checks kept); `.ci/run` renders every golden picture and the firmware
 //! frames with both builds, and both must equal the recorded hashes bit for bit.
+//!
+//! On Armv7-M and Armv8-M Mainline (`cfg(span_asm)`, set by `build.rs`), the common variant of
+//! small targets (RGB565 texture, white vertex light, RGB565 frame, `u16` depth, see [`Run565`])
+//! runs its pixels in assembly ([`run565`]), the Rust loop being its checked twin: the same
+//! pixels bit for bit, which the firmware frames' comparison with the host's renders checks
+//! (`scripts/qemu-check.sh`, `tests/qemu_frame.rs`); `checked-spans` builds the Rust loop there
+//! too.
 #![allow(unsafe_code)]
 
 use super::fragment::Lighting;
@@ -21,6 +28,7 @@ use crate::format::{decode_texel, TextureFormat};
 use crate::target::{BandArea, DepthBuffer, DepthCell, FrameColor};
 use crate::texture::{modulate, Repeat565, Sampler};
 use core::slice::IterMut;
+use embedded_graphics_core::pixelcolor::Rgb565;
 
 /// Where a fragment's unlit colour comes from.
 pub(super) trait Base: Copy {
@@ -39,6 +47,14 @@ pub(super) trait Base: Copy {
     /// The colour at texel coordinates `(u, v)` (`v` shifted by [`Base::v_shift`]), or `None` for
     /// a cut-out texel.
     fn base(&self, u: i32, v: i32) -> Option<[u8; 3]>;
+
+    /// This base as a [`Repeat565`] texture, for the span loop's assembly (see [`Run565`]);
+    /// `None` (the default) for any other base.
+    #[inline(always)]
+    #[cfg_attr(not(span_asm), allow(dead_code, reason = "only the span loop's assembly asks"))]
+    fn as_repeat565(&self) -> Option<&Repeat565<'_>> {
+        None
+    }
 
     /// The colour at the pixel with varyings `v` lit by `lighting`, in the frame's format.
     #[inline(always)]
@@ -63,6 +79,11 @@ impl Base for Repeat565<'_> {
     #[inline(always)]
     fn v_shift(&self) -> u32 {
         self.width_shift()
+    }
+
+    #[inline(always)]
+    fn as_repeat565(&self) -> Option<&Repeat565<'_>> {
+        Some(self)
     }
 
     #[inline(always)]
@@ -99,6 +120,13 @@ pub(super) trait RunVaryings<const V: usize> {
     fn current(&self) -> [FDot16; V];
     /// On to the next pixel.
     fn advance(&mut self);
+    /// The values at the current pixel and their steps per pixel, when they step linearly
+    /// ([`Stepped`]); `None` (the default) otherwise.
+    #[inline(always)]
+    #[cfg_attr(not(span_asm), allow(dead_code, reason = "only the span loop's assembly asks"))]
+    fn stepped(&self) -> Option<(&[FDot16; V], &[FDot16; V])> {
+        None
+    }
 }
 
 /// Varyings stepped linearly: the values at the current pixel and their steps per pixel
@@ -119,6 +147,10 @@ impl<const V: usize> RunVaryings<V> for Stepped<V> {
     #[inline(always)]
     fn advance(&mut self) {
         step_varyings(&mut self.0, &self.1);
+    }
+    #[inline(always)]
+    fn stepped(&self) -> Option<(&[FDot16; V], &[FDot16; V])> {
+        Some((&self.0, &self.1))
     }
 }
 
@@ -157,6 +189,17 @@ pub(super) trait RunCells {
     /// `start + len` is at most the band's colour length (`rows · width`), as
     /// [`BandArea::run_start`] makes it.
     unsafe fn run_cells(&mut self, start: usize, len: usize) -> Option<Self::Cells<'_>>;
+
+    /// The `len` plain `u16` depths from entry `start`, when the buffer holds those
+    /// ([`U16Cells`]); `None` (the default) otherwise.
+    ///
+    /// # Safety
+    /// As [`RunCells::run_cells`].
+    #[inline(always)]
+    unsafe fn run_u16(&mut self, start: usize, len: usize) -> Option<&mut [u16]> {
+        let _ = (start, len);
+        None
+    }
 }
 
 /// Any depth buffer, through [`DepthBuffer::cells`] (which checks the range itself).
@@ -191,16 +234,22 @@ impl RunCells for U16Cells<'_> {
         Self: 'a;
     #[inline(always)]
     unsafe fn run_cells(&mut self, start: usize, len: usize) -> Option<Self::Cells<'_>> {
+        // SAFETY: the same contract.
+        unsafe { self.run_u16(start, len) }.map(|cells| cells.iter_mut())
+    }
+
+    #[inline(always)]
+    unsafe fn run_u16(&mut self, start: usize, len: usize) -> Option<&mut [u16]> {
         #[cfg(feature = "checked-spans")]
         {
-            self.0.get_mut(start..start + len).map(|cells| cells.iter_mut())
+            self.0.get_mut(start..start + len)
         }
         #[cfg(not(feature = "checked-spans"))]
         {
             debug_assert!(start + len <= self.0.len());
             // SAFETY: the caller keeps `start + len` within the band's pixels (`run_cells`'s
             // contract), and `U16Cells::new` checked that there are at least that many values.
-            Some(unsafe { self.0.get_unchecked_mut(start..start + len) }.iter_mut())
+            Some(unsafe { self.0.get_unchecked_mut(start..start + len) })
         }
     }
 }
@@ -220,6 +269,32 @@ pub(super) struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     pub(super) written: u32,
     pub(super) rejected: u32,
     pub(super) runs: u32,
+    /// The assembly span loop's constants, when this is the variant it draws (see [`Run565`]).
+    #[cfg(span_asm)]
+    run565: Option<Run565>,
+}
+
+impl<'b, 's, C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool>
+    Shader<'b, 's, C, D, B, Lt, DITHER>
+{
+    /// The shader for one triangle drawn into a band's `color` and `depth` (at `area` in the
+    /// frame), from `base` lit by `lighting`, with nothing drawn yet.
+    #[inline(always)]
+    pub(super) fn new((area, color, depth): (BandArea, &'b mut [C], D), base: &'s B, lighting: &'s Lt) -> Self {
+        Shader {
+            #[cfg(span_asm)]
+            run565: Run565::of::<C, B, Lt, DITHER>(base),
+            area,
+            color,
+            depth,
+            base,
+            v_shift: base.v_shift(),
+            lighting,
+            written: 0,
+            rejected: 0,
+            runs: 0,
+        }
+    }
 }
 
 impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const V: usize, const DITHER: bool> SpanSink<V>
@@ -248,12 +323,19 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         let Some(start) = self.area.run_start(x, y, len as usize) else {
             return;
         };
+        vary.shift_v(self.v_shift);
+        #[cfg(span_asm)]
+        if let Some(rejected) = self.run_in_assembly(start, len as usize, (z, dz), &vary) {
+            self.written += len - rejected;
+            self.rejected += rejected;
+            self.runs += 1;
+            return;
+        }
         // SAFETY: `run_start` gave `start` only with `start + len <= rows · width`.
         let cells = unsafe { self.depth.run_cells(start, len as usize) };
         let (Some(colors), Some(cells)) = (colors_of(self.color, start, len as usize), cells) else {
             return;
         };
-        vary.shift_v(self.v_shift);
         let (mut rejected, mut cut) = (0, 0);
         for (k, (px, mut cell)) in colors.iter_mut().zip(cells).enumerate() {
             if !cell.passes(z) {
@@ -416,4 +498,187 @@ fn texel565(texture: &Repeat565<'_>, u: i32, v: i32) -> u16 {
         unsafe { *texels.get_unchecked(i) }
     };
     u16::from_le_bytes(texel)
+}
+
+/// `colors` as their RGB565 values (see [`FrameColor::as_rgb565_values`]).
+#[must_use]
+pub(crate) fn rgb565_values(colors: &mut [Rgb565]) -> &mut [u16] {
+    const { assert!(size_of::<Rgb565>() == 2 && align_of::<Rgb565>() == 2) };
+    // SAFETY: `Rgb565` is two bytes aligned to two (asserted above) and holds one `u16` (its
+    // `RawU16`, whose storage `into_storage` gives): that `u16` is all its bytes, and every
+    // `u16` is a valid `Rgb565`. So the same memory as `u16`s, the same length, borrowed as long.
+    unsafe { core::slice::from_raw_parts_mut(colors.as_mut_ptr().cast::<u16>(), colors.len()) }
+}
+
+/// The constants of [`run565`], the span loop in assembly for the common variant of small
+/// targets: a [`Repeat565`] texture, white light modulating RGB565 (`Lighting::WHITE_RGB565`),
+/// an RGB565 frame ([`FrameColor::as_rgb565_values`]), plain `u16` depths, varyings stepping
+/// linearly, no dither. In the order the loop loads them (all five with one `ldm`).
+#[cfg(span_asm)]
+#[derive(Clone, Copy)]
+#[repr(C)]
+pub(super) struct Run565 {
+    /// See [`Repeat565::texels_and_masks`].
+    u_mask: u32,
+    v_mask: u32,
+    /// The texels' address: an index masked by `u_mask | v_mask` lies within them.
+    texels: *const [u8; 2],
+    /// `texture::SPREAD565` and `texture::SPREAD565_HALF`.
+    spread: u32,
+    half: u32,
+}
+
+#[cfg(span_asm)]
+impl Run565 {
+    /// The constants for a triangle drawn from `base`, when its variant is the one [`run565`]
+    /// draws (but for the depth buffer and varyings, which each run checks).
+    #[inline(always)]
+    fn of<C: FrameColor, B: Base, Lt: Lighting, const DITHER: bool>(base: &B) -> Option<Self> {
+        let probe: &mut [C] = &mut [];
+        if DITHER || Lt::HIGHLIGHT || !Lt::WHITE_RGB565 || C::as_rgb565_values(probe).is_none() {
+            return None;
+        }
+        let (texels, u_mask, v_mask) = base.as_repeat565()?.texels_and_masks();
+        debug_assert!((u_mask | v_mask) as usize == texels.len() - 1);
+        let (spread, half) = (crate::texture::SPREAD565, crate::texture::SPREAD565_HALF);
+        Some(Run565 { u_mask, v_mask, texels: texels.as_ptr(), spread, half })
+    }
+}
+
+#[cfg(span_asm)]
+impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
+    /// The run of `len` pixels from band entry `start` (`BandArea::run_start` gave it) by
+    /// [`run565`] when this triangle's variant is the one it draws: the pixels the depth test
+    /// rejected. `None`, drawing nothing, for any other variant.
+    #[inline(always)]
+    fn run_in_assembly<const V: usize, R: RunVaryings<V>>(
+        &mut self,
+        start: usize,
+        len: usize,
+        (z, dz): (Depth30, i32),
+        vary: &R,
+    ) -> Option<u32> {
+        let constants = self.run565.as_ref()?;
+        // SAFETY: `run_start` gave `start` only with `start + len <= rows · width`.
+        let depths = unsafe { self.depth.run_u16(start, len) }?;
+        let colors = C::as_rgb565_values(colors_of(self.color, start, len)?)?;
+        let (v, dv) = vary.stepped()?;
+        let [u, tv, light] = [VertexLit::U, VertexLit::V, VertexLit::LIGHT].map(|k| v.get(k).copied());
+        let [du, dtv, dlight] = [VertexLit::U, VertexLit::V, VertexLit::LIGHT].map(|k| dv.get(k).copied());
+        let values = [z as i32, u?, tv?, light?];
+        Some(run565(colors, depths, values, [dz, du?, dtv?, dlight?], constants))
+    }
+}
+
+/// The run's pixel count, checked against the depths' (`None` when they differ), and the ends
+/// of both: the byte offset of the first pixel from them (`-2n`) and the ends, which the loops
+/// of [`Run565`]'s variant index back from.
+#[cfg(span_asm)]
+#[inline(always)]
+fn run_ends(colors: &mut [u16], depths: &mut [u16]) -> Option<(i32, *mut u16, *mut u16)> {
+    let n = colors.len();
+    let ends = (colors.as_mut_ptr_range().end, depths.as_mut_ptr_range().end);
+    (depths.len() == n).then_some(((n as i32).wrapping_mul(-2), ends.0, ends.1))
+}
+
+/// Draws a run of the variant [`Run565`] describes with varyings stepping linearly: `colors` and
+/// `depths` (the same length, checked), the depth (2.30) and the varyings `u`, `v` (scaled by
+/// the width, see `Repeat565::scale_v`) and light (biased) at the first pixel in `values`, their
+/// steps per pixel in `steps`. The same pixels as `Shader::run`'s loop draws for it, in 24
+/// instructions a pixel written (14 a pixel rejected) instead of about 33: every register the
+/// loop needs is its own (the constants and steps, each loaded with one `ldm` where they are
+/// used), which LLVM's allocation of the Rust loop does not achieve. The pixels the depth test
+/// rejected.
+#[cfg(span_asm)]
+#[inline(always)]
+fn run565(colors: &mut [u16], depths: &mut [u16], values: [i32; 4], steps: [i32; 4], k: &Run565) -> u32 {
+    let Some((offset, color_end, depth_end)) = run_ends(colors, depths) else {
+        return 0;
+    };
+    let [z, u, v, light] = values;
+    let [dz, du, dv, dlight] = steps;
+    let rejected: u32;
+    // SAFETY: the loop reads and writes entries `-n..0` of `color_end` and `depth_end` (byte
+    // offsets `-2n..0`), so `colors[0..n]` and `depths[0..n]`, both `n` long (`run_ends`); it
+    // reads texel `(v >> 16 & v_mask) | (u >> 16 & u_mask)` of `k.texels`, an index of at most
+    // `u_mask | v_mask = len - 1` (`Repeat565::texels_and_masks`); it restores `r6`, `r7` and
+    // `sp`, and writes no other memory.
+    unsafe {
+        core::arch::asm!(
+            // Steps at [sp] for the `ldm` that adds them; r6, r7 free.
+            "push {{r6, r7}}",
+            "push {{r10, r11, r12, lr}}",
+            "mov r10, #0",
+            "cbz r0, 3f",
+            "2:",
+            // Depth test (LEQUAL on the 16-bit depth), then store depth.
+            "ldrh r11, [r2, r0]",
+            "usat r12, #16, r4, asr #14",
+            "cmp r12, r11",
+            "bhi 4f",
+            "strh r12, [r2, r0]",
+            // Texel: (u >> 16 & u_mask) | (v >> 16 & v_mask).
+            "ldm r3, {{r6, r7, r11, r12, lr}}",
+            "and r6, r6, r5, asr #16",
+            "and r7, r7, r8, asr #16",
+            "orr r6, r6, r7",
+            "ldrh r6, [r11, r6, lsl #1]",
+            // `texture::modulate565_white_with`: level 0..=63, fields spread, multiplied, joined.
+            "usat r7, #6, r9, asr #11",
+            "orr r6, r6, r6, lsl #16",
+            "and r6, r6, r12",
+            "mla r6, r6, r7, lr",
+            "and r6, r12, r6, lsr #5",
+            "orr r6, r6, r6, lsr #16",
+            "strh r6, [r1, r0]",
+            // Step depth and varyings; next pixel.
+            "5:",
+            "ldm sp, {{r6, r7, r11, r12}}",
+            "add r4, r4, r6",
+            "add r5, r5, r7",
+            "add r8, r8, r11",
+            "add r9, r9, r12",
+            "adds r0, r0, #2",
+            "bne 2b",
+            "3:",
+            "add sp, sp, #16",
+            "pop {{r6, r7}}",
+            "b 6f",
+            "4:",
+            "add r10, r10, #1",
+            "b 5b",
+            "6:",
+            inout("r0") offset => _,
+            in("r1") color_end,
+            in("r2") depth_end,
+            in("r3") k as *const Run565,
+            inout("r4") z => _,
+            inout("r5") u => _,
+            inout("r8") v => _,
+            inout("r9") light => _,
+            inout("r10") dz => rejected,
+            inout("r11") du => _,
+            inout("r12") dv => _,
+            inout("lr") dlight => _,
+        );
+    }
+    rejected
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use embedded_graphics_core::pixelcolor::raw::RawU16;
+    use embedded_graphics_core::prelude::RawData;
+
+    /// The RGB565 view writes what `Rgb565::from(RawU16::new(value))` holds, in place.
+    #[test]
+    fn rgb565_values_are_the_colours_storage() {
+        let mut colors = [Rgb565::from(RawU16::new(0x1234)); 3];
+        let values = rgb565_values(&mut colors);
+        assert_eq!(values, &[0x1234; 3]);
+        values[1] = 0xF81F;
+        assert_eq!(RawU16::from(colors[1]).into_inner(), 0xF81F);
+        assert_eq!(RawU16::from(colors[0]).into_inner(), 0x1234);
+    }
 }

@@ -47,6 +47,15 @@ pub trait FrameColor: Copy {
         let _ = constants;
         Self::from_white_lit_rgb565(texel, biased.wrapping_sub(crate::texture::WHITE_LIGHT_BIAS))
     }
+    /// `colors` as their RGB565 values in native `u16`s, the same length, when that is what
+    /// this format is ([`Rgb565`]): the span loop's assembly writes those (see
+    /// `pipeline::span`). `None` (the default) for any other format.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn as_rgb565_values(colors: &mut [Self]) -> Option<&mut [u16]> {
+        let _ = colors;
+        None
+    }
 }
 
 /// The 4x4 Bayer matrix: thresholds 0..16.
@@ -137,6 +146,10 @@ impl FrameColor for Rgb565 {
         Rgb565::from(embedded_graphics_core::pixelcolor::raw::RawU16::new(crate::texture::modulate565_white_with(
             texel, biased, constants,
         )))
+    }
+    #[inline(always)]
+    fn as_rgb565_values(colors: &mut [Self]) -> Option<&mut [u16]> {
+        Some(crate::pipeline::rgb565_values(colors))
     }
 }
 
