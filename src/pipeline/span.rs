@@ -127,6 +127,15 @@ pub(super) trait RunVaryings<const V: usize> {
     fn stepped(&self) -> Option<(&[FDot16; V], &[FDot16; V])> {
         None
     }
+    /// For three varyings worked out in f32 with perspective at each pixel (`raster::PixelRun`):
+    /// `[s, t0, t1, t2, v0_0, v0_1, v0_2, ds, dt0, dt1, dt2]`, varying `k` at the current pixel
+    /// being `(t[k] · (1 / s) + v0[k]) as i32`, then `s` and `t` stepping by `ds` and `dt`.
+    /// `None` (the default) otherwise.
+    #[cfg(all(span_asm, not(soft_float)))]
+    #[inline(always)]
+    fn perspective(&self) -> Option<[f32; 11]> {
+        None
+    }
 }
 
 /// Varyings stepped linearly: the values at the current pixel and their steps per pixel
@@ -562,12 +571,53 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         // SAFETY: `run_start` gave `start` only with `start + len <= rows · width`.
         let depths = unsafe { self.depth.run_u16(start, len) }?;
         let colors = C::as_rgb565_values(colors_of(self.color, start, len)?)?;
+        #[cfg(not(soft_float))]
+        if let Some(f) = vary.perspective() {
+            return Some(run565_perspective(colors, depths, (z, dz), &f, constants));
+        }
         let (v, dv) = vary.stepped()?;
         let [u, tv, light] = [VertexLit::U, VertexLit::V, VertexLit::LIGHT].map(|k| v.get(k).copied());
         let [du, dtv, dlight] = [VertexLit::U, VertexLit::V, VertexLit::LIGHT].map(|k| dv.get(k).copied());
         let values = [z as i32, u?, tv?, light?];
         Some(run565(colors, depths, values, [dz, du?, dtv?, dlight?], constants))
     }
+}
+
+/// The assembly both loops of [`Run565`]'s variant share, as template lines, in the registers
+/// both keep: `r0` the byte offset of the pixel from the runs' ends (negative, up to 0), `r1`
+/// and `r2` the ends of the colours and depths, `r3` the [`Run565`] constants, `r4` the depth
+/// (2.30); `r5`, `r8`, `r9` the pixel's `u`, `v` (scaled) and light (biased); `r6`, `r7`,
+/// `r11`, `r12`, `lr` free.
+#[cfg(span_asm)]
+macro_rules! asm565 {
+    // The depth test (LEQUAL on the 16-bit depth): to `4f` when it fails, else stores the depth.
+    (depth_test) => {
+        concat!(
+            "ldrh r11, [r2, r0]\n",
+            "usat r12, #16, r4, asr #14\n",
+            "cmp r12, r11\n",
+            "bhi 4f\n",
+            "strh r12, [r2, r0]\n",
+        )
+    };
+    // The texel `(u >> 16 & u_mask) | (v >> 16 & v_mask)` lit as `texture::modulate565_white_with`
+    // does (level 0..=63, fields spread, multiplied, joined), stored.
+    (shade) => {
+        concat!(
+            "ldm r3, {{r6, r7, r11, r12, lr}}\n",
+            "and r6, r6, r5, asr #16\n",
+            "and r7, r7, r8, asr #16\n",
+            "orr r6, r6, r7\n",
+            "ldrh r6, [r11, r6, lsl #1]\n",
+            "usat r7, #6, r9, asr #11\n",
+            "orr r6, r6, r6, lsl #16\n",
+            "and r6, r6, r12\n",
+            "mla r6, r6, r7, lr\n",
+            "and r6, r12, r6, lsr #5\n",
+            "orr r6, r6, r6, lsr #16\n",
+            "strh r6, [r1, r0]\n",
+        )
+    };
 }
 
 /// The run's pixel count, checked against the depths' (`None` when they differ), and the ends
@@ -611,26 +661,8 @@ fn run565(colors: &mut [u16], depths: &mut [u16], values: [i32; 4], steps: [i32;
             "mov r10, #0",
             "cbz r0, 3f",
             "2:",
-            // Depth test (LEQUAL on the 16-bit depth), then store depth.
-            "ldrh r11, [r2, r0]",
-            "usat r12, #16, r4, asr #14",
-            "cmp r12, r11",
-            "bhi 4f",
-            "strh r12, [r2, r0]",
-            // Texel: (u >> 16 & u_mask) | (v >> 16 & v_mask).
-            "ldm r3, {{r6, r7, r11, r12, lr}}",
-            "and r6, r6, r5, asr #16",
-            "and r7, r7, r8, asr #16",
-            "orr r6, r6, r7",
-            "ldrh r6, [r11, r6, lsl #1]",
-            // `texture::modulate565_white_with`: level 0..=63, fields spread, multiplied, joined.
-            "usat r7, #6, r9, asr #11",
-            "orr r6, r6, r6, lsl #16",
-            "and r6, r6, r12",
-            "mla r6, r6, r7, lr",
-            "and r6, r12, r6, lsr #5",
-            "orr r6, r6, r6, lsr #16",
-            "strh r6, [r1, r0]",
+            asm565!(depth_test),
+            asm565!(shade),
             // Step depth and varyings; next pixel.
             "5:",
             "ldm sp, {{r6, r7, r11, r12}}",
@@ -660,6 +692,90 @@ fn run565(colors: &mut [u16], depths: &mut [u16], values: [i32; 4], steps: [i32;
             inout("r11") du => _,
             inout("r12") dv => _,
             inout("lr") dlight => _,
+        );
+    }
+    rejected
+}
+
+/// [`run565`] with perspective-correct varyings (`raster::PixelRun`): at each pixel the three
+/// varyings are `(t[k] · (1 / s) + v0[k]) as i32`, then `s` and `t` step by `ds` and `dt`, all
+/// in f32 with the rounding of `PixelRun`'s operators; `f` is `[s, t0, t1, t2, v0_0, v0_1, v0_2,
+/// ds, dt0, dt1, dt2]` (see `RunVaryings::perspective`). The floats come through memory
+/// (`vldm`), and the loop saves and restores `s0`-`s15` itself: Rust's inline assembly takes `s`
+/// registers as operands only with the double-precision `vfp2` feature, which the Cortex-M4F
+/// lacks.
+#[cfg(all(span_asm, not(soft_float)))]
+#[inline(always)]
+fn run565_perspective(
+    colors: &mut [u16],
+    depths: &mut [u16],
+    (z, dz): (Depth30, i32),
+    f: &[f32; 11],
+    k: &Run565,
+) -> u32 {
+    let Some((offset, color_end, depth_end)) = run_ends(colors, depths) else {
+        return 0;
+    };
+    let rejected: u32;
+    // SAFETY: as `run565`'s (the same entries, the same texel index), and it reads the 11
+    // floats of `f`; it restores `r5`, `r6`, `r7`, `s0`-`s15` and `sp`.
+    unsafe {
+        core::arch::asm!(
+            // The depth step at [sp]; r6, r7 and s0-s15 free.
+            "vpush {{s0-s15}}",
+            "push {{r5, r6, r7}}",
+            "vldm lr, {{s0-s10}}",
+            "mov r10, #0",
+            "vmov.f32 s11, #1.0",
+            // A run of no pixels skips it (`cbz` cannot branch that far).
+            "cbnz r0, 2f",
+            "b 3f",
+            "2:",
+            asm565!(depth_test),
+            // `t · (1 / s) + v0`, rounded after each operation as the Rust code's f32 operators.
+            "vdiv.f32 s12, s11, s0",
+            "vmul.f32 s13, s1, s12",
+            "vmul.f32 s14, s2, s12",
+            "vmul.f32 s15, s3, s12",
+            "vadd.f32 s13, s13, s4",
+            "vadd.f32 s14, s14, s5",
+            "vadd.f32 s15, s15, s6",
+            "vcvt.s32.f32 s13, s13",
+            "vcvt.s32.f32 s14, s14",
+            "vcvt.s32.f32 s15, s15",
+            "vmov r5, r8, s13, s14",
+            "vmov r9, s15",
+            asm565!(shade),
+            // Step depth and varyings; next pixel.
+            "5:",
+            "vadd.f32 s0, s0, s7",
+            "vadd.f32 s1, s1, s8",
+            "vadd.f32 s2, s2, s9",
+            "vadd.f32 s3, s3, s10",
+            "ldr r6, [sp]",
+            "add r4, r4, r6",
+            "adds r0, r0, #2",
+            "bne 2b",
+            "3:",
+            "pop {{r5, r6, r7}}",
+            "vpop {{s0-s15}}",
+            "b 6f",
+            "4:",
+            "add r10, r10, #1",
+            "b 5b",
+            "6:",
+            inout("r0") offset => _,
+            in("r1") color_end,
+            in("r2") depth_end,
+            in("r3") k as *const Run565,
+            inout("r4") z => _,
+            inout("r5") dz => _,
+            out("r8") _,
+            out("r9") _,
+            out("r10") rejected,
+            out("r11") _,
+            out("r12") _,
+            inout("lr") f.as_ptr() => _,
         );
     }
     rejected

@@ -223,6 +223,14 @@ impl<const V: usize> RunVaryings<V> for PixelRun<V> {
         debug_assert_eq!(shift, self.shift);
     }
 
+    #[cfg(all(span_asm, not(soft_float)))]
+    #[inline(always)]
+    fn perspective(&self) -> Option<[f32; 11]> {
+        let three = |v: &[F32; V]| <[F32; 3]>::try_from(&v[..]).ok();
+        let ([t0, t1, t2], [v0, v1, v2], [d0, d1, d2]) = (three(&self.t)?, three(&self.v0)?, three(&self.dt)?);
+        Some([self.s, t0, t1, t2, v0, v1, v2, self.ds, d0, d1, d2].map(|x| x.0))
+    }
+
     #[inline(always)]
     fn current(&self) -> [FDot16; V] {
         let r = F32(1.0) / self.s;
