@@ -410,6 +410,13 @@ pub(crate) struct BandArea {
 }
 
 impl BandArea {
+    /// The band's width in pixels: the distance between a pixel's entry and the next row's.
+    #[cfg(span_asm)]
+    #[inline(always)]
+    pub(crate) fn width(&self) -> usize {
+        self.width
+    }
+
     /// The index in the band's slices of the first of the `len` pixels that start at frame
     /// pixel `(x, y)` and run right along its row, when all of them are inside the band.
     #[inline(always)]

@@ -409,6 +409,12 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
     /// with the set-up's or with the exact rows' cuts).
     #[inline(never)]
     pub(super) fn draw_affine_rows<const V: usize>(&mut self, mut rows: AffineRows<'_, V>) {
+        #[cfg(span_asm)]
+        if let Some(k) = self.run565 {
+            if self.draw_affine_rows_in_assembly(&k, &mut rows).is_some() {
+                return;
+            }
+        }
         self.draw_runs(rows.dz, || rows.next_row());
     }
 
@@ -509,6 +515,137 @@ fn texel565(texture: &Repeat565<'_>, u: i32, v: i32) -> u16 {
     u16::from_le_bytes(texel)
 }
 
+/// What [`affine_rows565`] reads and keeps as it walks an affine triangle's rows: [`Run565`]'s
+/// constants and the per-pixel steps (depth, `u`, `v` scaled, light) where the pixel loop loads
+/// them, the two edges and the rows' place in the band (stepped row by row), the depth and
+/// varying planes (see `raster::AffineTerms`), and the counts. The assembly reads the fields at
+/// the offsets asserted below.
+#[cfg(span_asm)]
+#[repr(C)]
+struct AffineRun565 {
+    k: Run565,
+    steps: [i32; 4],
+    /// `[row, 16·b, d]` of the left and right edges on the next row (see `raster::PlainRows`).
+    left: [i32; 3],
+    right: [i32; 3],
+    /// The box's last column (`x1 - x0`).
+    last: i32,
+    /// The next row's rows below the origin, and the first's below them all.
+    dy: i32,
+    dy_end: i32,
+    /// The colour and depth entries of the next row's first box column, and the bytes from a
+    /// row's entry to the next row's.
+    color_row: *mut u16,
+    depth_row: *mut u16,
+    stride: u32,
+    /// The depth plane (24.40): the origin's value as `[low, high]` words, and per pixel in x
+    /// and y.
+    z_origin: [u32; 2],
+    z_dx: i32,
+    z_dy: i32,
+    /// `[base, origin, gx, gy]` of `u`, `v` and light, one after the other (the triangle's
+    /// `raster::AffineTerms::planes`).
+    planes: *const [i32; 4],
+    v_shift: u32,
+    /// Pixels of the runs drawn, and runs.
+    pixels: u32,
+    runs: u32,
+    /// The assembly's one spill: the run's byte offset.
+    scratch: i32,
+}
+
+#[cfg(span_asm)]
+const _: () = {
+    use core::mem::offset_of;
+    assert!(offset_of!(AffineRun565, steps) == 20 && offset_of!(AffineRun565, left) == 36);
+    assert!(offset_of!(AffineRun565, right) == 48 && offset_of!(AffineRun565, last) == 60);
+    assert!(offset_of!(AffineRun565, dy) == 64 && offset_of!(AffineRun565, dy_end) == 68);
+    assert!(offset_of!(AffineRun565, color_row) == 72 && offset_of!(AffineRun565, depth_row) == 76);
+    assert!(offset_of!(AffineRun565, stride) == 80 && offset_of!(AffineRun565, z_origin) == 84);
+    assert!(offset_of!(AffineRun565, z_dx) == 92 && offset_of!(AffineRun565, planes) == 100);
+    assert!(offset_of!(AffineRun565, v_shift) == 104 && offset_of!(AffineRun565, pixels) == 108);
+    assert!(offset_of!(AffineRun565, runs) == 112 && offset_of!(AffineRun565, scratch) == 116);
+    // The varyings' order in `planes`.
+    assert!(VertexLit::U == 0 && VertexLit::V == 1 && VertexLit::LIGHT == 2);
+};
+
+#[cfg(span_asm)]
+impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
+    /// Draws an affine triangle's rows with [`affine_rows565`] (its rows bounded by two edges;
+    /// the middle vertex's row with [`Shader::run`]), for the variant [`Run565`] describes
+    /// with constants `k`; `None`, drawing nothing, when the triangle's box does not lie in the
+    /// band or its varyings are not the three that variant has.
+    fn draw_affine_rows_in_assembly<const V: usize>(&mut self, k: &Run565, rows: &mut AffineRows<'_, V>) -> Option<()> {
+        let (x0, x1, y0, y1) = rows.remaining_box();
+        let (width, stride) = (usize::try_from(x1 - x0 + 1).ok()?, self.area.width());
+        let first = self.area.run_start(x0, y0, width)?;
+        let last_row = self.area.run_start(x0, y1, width)?;
+        // Every entry of the box, from the first row's first column to the last's last.
+        let entries = (last_row + width).checked_sub(first)?;
+        // SAFETY: `run_start` gave `last_row` only with `last_row + width <= rows · width`.
+        let depths = unsafe { self.depth.run_u16(first, entries) }?.as_mut_ptr();
+        let colors = C::as_rgb565_values(colors_of(self.color, first, entries)?)?;
+        let box_rows = usize::try_from(y1 - y0).ok()?;
+        if colors.len() != entries || last_row - first != box_rows * stride {
+            return None;
+        }
+        let (colors, terms) = (colors.as_mut_ptr(), rows.terms());
+        // The assembly reads the planes of `u`, `v` and light, and no other.
+        let (Ok(planes), step) = (<&[[i32; 4]; 3]>::try_from(&terms.planes[..]), terms.step) else {
+            return None;
+        };
+        let (u, v, light) = (VertexLit::U, VertexLit::V, VertexLit::LIGHT);
+        let v_shift = self.v_shift & 31;
+        let mut walk = AffineRun565 {
+            k: *k,
+            steps: [terms.dz, *step.get(u)?, step.get(v)?.wrapping_shl(v_shift), *step.get(light)?],
+            left: [0; 3],
+            right: [0; 3],
+            last: x1 - x0,
+            dy: 0,
+            dy_end: 0,
+            color_row: colors,
+            depth_row: depths,
+            stride: (stride * 2) as u32,
+            z_origin: [terms.z_origin as u32, (terms.z_origin >> 32) as u32],
+            z_dx: terms.z_dx,
+            z_dy: terms.z_dy,
+            planes: planes.as_ptr(),
+            v_shift,
+            pixels: 0,
+            runs: 0,
+            scratch: 0,
+        };
+        let (base, mut rejected) = (*self.base, 0);
+        loop {
+            if let Some(plain) = rows.take_plain_rows() {
+                // Within the box's rows (`take_plain_rows` gives no other; checked, as the
+                // assembly writes where this says).
+                let Some(from_top) =
+                    usize::try_from(plain.y - y0).ok().filter(|&r| r + plain.rows as usize <= box_rows + 1)
+                else {
+                    continue;
+                };
+                (walk.left, walk.right, walk.dy, walk.dy_end) =
+                    (plain.left, plain.right, plain.dy, plain.dy + plain.rows);
+                walk.color_row = colors.wrapping_add(from_top * stride);
+                walk.depth_row = depths.wrapping_add(from_top * stride);
+                rejected += affine_rows565(&mut walk);
+                continue;
+            }
+            match rows.next_row() {
+                None => break,
+                Some(None) => {}
+                Some(Some((at, z, vary))) => self.run(&base, at, (z, terms.dz), vary),
+            }
+        }
+        self.written += walk.pixels - rejected;
+        self.rejected += rejected;
+        self.runs += walk.runs;
+        Some(())
+    }
+}
+
 /// `colors` as their RGB565 values (see [`FrameColor::as_rgb565_values`]).
 #[must_use]
 pub(crate) fn rgb565_values(colors: &mut [Rgb565]) -> &mut [u16] {
@@ -600,6 +737,18 @@ macro_rules! asm565 {
             "strh r12, [r2, r0]\n",
         )
     };
+    // Depth and varyings on by a pixel (the steps at [sp]), then the flags of the next offset
+    // (0 after the last pixel).
+    (step) => {
+        concat!(
+            "ldm sp, {{r6, r7, r11, r12}}\n",
+            "add r4, r4, r6\n",
+            "add r5, r5, r7\n",
+            "add r8, r8, r11\n",
+            "add r9, r9, r12\n",
+            "adds r0, r0, #2\n",
+        )
+    };
     // The texel `(u >> 16 & u_mask) | (v >> 16 & v_mask)` lit as `texture::modulate565_white_with`
     // does (level 0..=63, fields spread, multiplied, joined), stored.
     (shade) => {
@@ -665,12 +814,7 @@ fn run565(colors: &mut [u16], depths: &mut [u16], values: [i32; 4], steps: [i32;
             asm565!(shade),
             // Step depth and varyings; next pixel.
             "5:",
-            "ldm sp, {{r6, r7, r11, r12}}",
-            "add r4, r4, r6",
-            "add r5, r5, r7",
-            "add r8, r8, r11",
-            "add r9, r9, r12",
-            "adds r0, r0, #2",
+            asm565!(step),
             "bne 2b",
             "3:",
             "add sp, sp, #16",
@@ -776,6 +920,138 @@ fn run565_perspective(
             out("r11") _,
             out("r12") _,
             inout("lr") f.as_ptr() => _,
+        );
+    }
+    rejected
+}
+
+/// Draws the rows `walk` describes (see [`AffineRun565`]): on each, the columns between its
+/// edges (as `raster::PlainRows` defines them) within `0..=last`, from the depth and varyings
+/// at the first (as `raster::AffineTerms` defines them) stepped by `steps`, with the depth test
+/// and shading of [`run565`]; counts the pixels and runs in `walk`. The walk of the rows, the
+/// planes at each run's first pixel and the pixel loop, all in the registers of one routine:
+/// about 70 instructions a row where the Rust walk and [`Shader::run`] took about 140. The
+/// pixels the depth test rejected.
+#[cfg(span_asm)]
+#[allow(
+    clippy::too_many_lines,
+    reason = "one routine, as it must be: split, the row walk and the pixel loop would meet through memory at each row"
+)]
+fn affine_rows565(walk: &mut AffineRun565) -> u32 {
+    let rejected: u32;
+    // SAFETY: on each of the rows `dy..dy_end`, the loop writes colour and depth entries `lo..=hi` of
+    // the row's `color_row` and `depth_row`, with `0 <= lo` (the `bic`) and `hi <= last` (the
+    // `movgt`), the rows `stride` bytes (one band row) apart: within the triangle's box, which
+    // `draw_affine_rows_in_assembly` checked lies in the band's slices (both `run_start`s and
+    // their distance) and the rows within it; it reads texels as `run565` does and the 12
+    // words at `planes` (three varyings' terms, checked there), writes `walk`'s fields, and
+    // restores `r6`, `r7` and `sp`.
+    unsafe {
+        core::arch::asm!(
+            // The steps at [sp] for the pixel loop's `ldm`; r6, r7 free.
+            "push {{r6, r7}}",
+            "add r6, r3, #20",
+            "ldm r6, {{r6, r7, r11, r12}}",
+            "push {{r6, r7, r11, r12}}",
+            "mov r10, #0",
+            // The next row, if any; `dy` on to the next.
+            "1:",
+            "ldrd r0, r1, [r3, #64]",
+            "cmp r0, r1",
+            "bge 9f",
+            "add r1, r0, #1",
+            "str r1, [r3, #64]",
+            // Both edges and `last`; the edges on to the next row.
+            "add lr, r3, #36",
+            "ldm lr, {{r1, r2, r4, r5, r6, r8, r9}}",
+            "add r2, r1, r2",
+            "add r6, r5, r6",
+            "str r2, [r3, #36]",
+            "str r6, [r3, #48]",
+            // The left edge's first column: 0 when row > d - 1, else (d - 1 - row) / d; at least 0.
+            "sub r7, r4, #1",
+            "subs r7, r7, r1",
+            "ite lt",
+            "movlt r7, #0",
+            "udivge r7, r7, r4",
+            "bic r7, r7, r7, asr #31",
+            // The right edge's last column: -1 when row < 0, else row / d; at most `last`.
+            "cmp r5, #0",
+            "ite lt",
+            "mvnlt r12, #0",
+            "udivge r12, r5, r8",
+            "cmp r12, r9",
+            "it gt",
+            "movgt r12, r9",
+            // This row's entries; the next row's.
+            "ldrd r1, r2, [r3, #72]",
+            "ldr r6, [r3, #80]",
+            "add r4, r1, r6",
+            "add r5, r2, r6",
+            "strd r4, r5, [r3, #72]",
+            "cmp r7, r12",
+            "bgt 1b",
+            // The run's ends and its byte offset from them; pixels and runs counted.
+            "add r12, r12, #1",
+            "add r1, r1, r12, lsl #1",
+            "add r2, r2, r12, lsl #1",
+            "sub r8, r7, r12",
+            "ldrd r11, r12, [r3, #108]",
+            "sub r11, r11, r8",
+            "add r12, r12, #1",
+            "strd r11, r12, [r3, #108]",
+            "lsl r8, r8, #1",
+            "str r8, [r3, #116]",
+            // Depth at the first pixel: (z_origin + z_dx·lo + z_dy·dy) >> 10, low word.
+            "ldrd r4, r5, [r3, #84]",
+            "ldrd r11, r12, [r3, #92]",
+            "smlal r4, r5, r11, r7",
+            "smlal r4, r5, r12, r0",
+            "lsr r4, r4, #10",
+            "orr r4, r4, r5, lsl #22",
+            // Varyings at the first pixel: base + ((origin + gx·lo + gy·dy) >> 8); v scaled.
+            "ldr r6, [r3, #100]",
+            "ldm r6!, {{r9, r11, r12, lr}}",
+            "mla r11, r12, r7, r11",
+            "mla r11, lr, r0, r11",
+            "add r5, r9, r11, asr #8",
+            "ldm r6!, {{r9, r11, r12, lr}}",
+            "mla r11, r12, r7, r11",
+            "mla r11, lr, r0, r11",
+            "add r8, r9, r11, asr #8",
+            "ldm r6!, {{r9, r11, r12, lr}}",
+            "mla r11, r12, r7, r11",
+            "mla r11, lr, r0, r11",
+            "add r9, r9, r11, asr #8",
+            "ldr r11, [r3, #104]",
+            "lsl r8, r8, r11",
+            "ldr r0, [r3, #116]",
+            // The pixels, as `run565`'s loop.
+            "2:",
+            asm565!(depth_test),
+            asm565!(shade),
+            "5:",
+            asm565!(step),
+            "bne 2b",
+            "b 1b",
+            "4:",
+            "add r10, r10, #1",
+            "b 5b",
+            "9:",
+            "add sp, sp, #16",
+            "pop {{r6, r7}}",
+            in("r3") walk as *mut AffineRun565,
+            out("r0") _,
+            out("r1") _,
+            out("r2") _,
+            out("r4") _,
+            out("r5") _,
+            out("r8") _,
+            out("r9") _,
+            out("r10") rejected,
+            out("r11") _,
+            out("r12") _,
+            out("lr") _,
         );
     }
     rejected

@@ -17,13 +17,15 @@ use crate::math::{
 /// distance, far below the 2^-16 of a texel or of full light that a unit is). Stepping them
 /// costs the same on every target, FPU or not, and gives the same value for a pixel whichever
 /// band draws it.
+///
+/// Each varying's terms lie together, `[base, origin, gx, gy]`, at the start (`repr(C)`): the
+/// span loop's assembly reads them there, four with one `ldm` (see `span::AffineRun565`).
 #[derive(Clone, Copy, Debug)]
+#[repr(C)]
 pub(super) struct AffinePlanes<const V: usize> {
-    /// Vertex 0's values; the planes below are relative to them.
-    base: [FDot16; V],
-    origin: [FDot8; V],
-    gx: [FDot8; V],
-    gy: [FDot8; V],
+    /// Per varying: vertex 0's value (16.16; the plane is relative to it), then the plane's
+    /// `origin`, `gx` and `gy` (24.8).
+    terms: [[i32; 4]; V],
     /// `gx` rounded to whole units: the per-pixel step along a row.
     step: [FDot16; V],
 }
@@ -51,7 +53,7 @@ impl<const V: usize> AffinePlanes<V> {
         let per_pixel = |c: i32| F32::from(c * 16) * inv_area;
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), F32::from(edges[1].c) * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), F32::from(edges[2].c) * inv_area);
-        let mut p = AffinePlanes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
+        let mut p = AffinePlanes { terms: v0.map(|b| [b, 0, 0, 0]), step: [0; V] };
         for k in 0..V {
             let (d1, d2) = (d1[k], d2[k]);
             // Relative to vertex 0's value, added back in integers: large values (e.g. world
@@ -81,7 +83,7 @@ impl<const V: usize> AffinePlanes<V> {
         let (e1, e2) = (&edges[1], &edges[2]);
         // `v0`'s values stand in until `set` sets every varying's terms: a copy is a few stores,
         // where zeros are a `memset` call on Armv6-M.
-        let mut p = AffinePlanes { base: *v0, origin: *v0, gx: *v0, gy: *v0, step: *v0 };
+        let mut p = AffinePlanes { terms: v0.map(|b| [b; 4]), step: *v0 };
         for k in 0..V {
             let (d1, d2) = (d1[k], d2[k]);
             // `a` and `b` are per 1/16 pixel and the terms in 24.8 units: per pixel, times 2^12;
@@ -112,14 +114,23 @@ impl<const V: usize> AffinePlanes<V> {
         if u64::from(abs(o)) + mul_u32_small(abs(gx), w) + mul_u32_small(abs(gy), h) >= 1 << 30 {
             return None;
         }
-        (self.origin[k], self.gx[k], self.gy[k], self.step[k]) = (o, gx, gy, fdot8_round(gx));
+        (self.terms[k][1], self.terms[k][2], self.terms[k][3], self.step[k]) = (o, gx, gy, fdot8_round(gx));
         Some(())
+    }
+
+    /// Each varying's `[base, origin, gx, gy]` (see [`AffinePlanes::at`]), and the steps.
+    #[cfg(span_asm)]
+    pub(super) fn terms(&self) -> (&[[i32; 4]; V], &[FDot16; V]) {
+        (&self.terms, &self.step)
     }
 
     /// Varyings at column `x`, row `y` from the origin pixel, and the step per pixel.
     #[inline(always)]
     pub(super) fn at(&self, x: i32, y: i32) -> ([i32; V], [i32; V]) {
-        let v = |k: usize| self.base[k].wrapping_add(fdot8_floor(self.origin[k] + self.gx[k] * x + self.gy[k] * y));
+        let v = |k: usize| {
+            let [base, origin, gx, gy] = self.terms[k];
+            base.wrapping_add(fdot8_floor(origin + gx * x + gy * y))
+        };
         (core::array::from_fn(v), self.step)
     }
 }
@@ -321,12 +332,12 @@ mod tests {
                     kept += 1;
                     for k in 0..3 {
                         let [o, gx, gy] = terms(k);
-                        for (got, want) in [(p.origin[k], o), (p.gx[k], gx), (p.gy[k], gy)] {
+                        for (got, want) in [(p.terms[k][1], o), (p.terms[k][2], gx), (p.terms[k][3], gy)] {
                             let error = (f64::from(got) - want.floor()).abs();
                             worst = worst.max(error);
                             assert!(error <= 3.0, "triangle {t}, varying {k}: {got} for {want}");
                         }
-                        assert_eq!(p.step[k], fdot8_round(p.gx[k]));
+                        assert_eq!(p.step[k], fdot8_round(p.terms[k][2]));
                     }
                 }
                 None => {

@@ -228,6 +228,68 @@ impl<const V: usize> AffineRows<'_, V> {
     }
 }
 
+/// Rows of [`AffineRows`] for a loop that walks them itself (the span loop's assembly, see
+/// `span::AffineRun565`): the left and right edges (`[row, 16·b, d]`, see `walk::DividedEdge`)
+/// on the first row, the first row's frame row and its rows below the origin, and the number
+/// of rows. On each, the covered columns of the box are `max(first, 0) ..= min(last_of_right,
+/// x1 - x0)`, with `first` the left
+/// edge's `ceil(-row / d)` (0 when `row > d - 1`, in u32 otherwise) and `last_of_right` the
+/// right edge's `floor(row / d)` (-1 when `row < 0`); then each edge's `row` steps by its `16·b`.
+#[cfg(span_asm)]
+pub(crate) struct PlainRows {
+    pub(crate) left: [i32; 3],
+    pub(crate) right: [i32; 3],
+    pub(crate) y: i32,
+    pub(crate) dy: i32,
+    pub(crate) rows: i32,
+}
+
+/// The planes of an affine triangle for a loop that walks its rows itself: at column `x` (of the
+/// box) on the row `dy` below the origin, the depth (2.30) is the low 32 bits of `(z_origin +
+/// z_dx·x + z_dy·dy) >> 10` (in i64), and varying `k` is `base[k] + ((origin[k] + gx[k]·x +
+/// gy[k]·dy) >> 8)` (wrapping), stepping by `step[k]` a pixel and the depth by `dz`.
+#[cfg(span_asm)]
+pub(crate) struct AffineTerms<'a, const V: usize> {
+    pub(crate) z_origin: i64,
+    pub(crate) z_dx: i32,
+    pub(crate) z_dy: i32,
+    pub(crate) dz: i32,
+    /// Per varying, `[base, origin, gx, gy]`.
+    pub(crate) planes: &'a [[i32; 4]; V],
+    pub(crate) step: &'a [FDot16; V],
+}
+
+#[cfg(span_asm)]
+impl<'s, const V: usize> AffineRows<'s, V> {
+    /// The rows from the current one that need no middle-vertex handoff (see [`PlainRows`]),
+    /// for a loop that walks them itself; the walk goes on after them. `None` when the current
+    /// row is the middle vertex's (then [`AffineRows::next_row`]) or past the last.
+    pub(crate) fn take_plain_rows(&mut self) -> Option<PlainRows> {
+        let (s, cursor) = (self.setup, &mut self.cursor);
+        let rows_left = s.y1 - cursor.y + 1;
+        if rows_left <= 0 {
+            return None;
+        }
+        let (left, right, rows) = cursor.walk.take_plain_rows(rows_left)?;
+        let plain = PlainRows { left, right, y: cursor.y, dy: cursor.y - s.origin_row, rows };
+        cursor.y += rows;
+        Some(plain)
+    }
+
+    /// The box's columns `x0..=x1` and the rows from the current one to the last: `(x0, x1,
+    /// y, y1)`, frame pixels.
+    pub(crate) fn remaining_box(&self) -> (i32, i32, i32, i32) {
+        let s = self.setup;
+        (s.x0, s.x1, self.cursor.y, s.y1)
+    }
+
+    /// The triangle's depth and varying planes (see [`AffineTerms`]).
+    pub(crate) fn terms(&self) -> AffineTerms<'s, V> {
+        let (c, (planes, step)) = (&self.cursor, self.planes.terms());
+        AffineTerms { z_origin: self.setup.z_origin, z_dx: c.z_dx, z_dy: c.z_dy, dz: self.dz, planes, step }
+    }
+}
+
 /// A triangle's rows, walked by the span loop itself (see [`Setup::walked_rows`]): the same
 /// spans as [`Setup::for_each_span`] hands out, bit for bit, without a call or a [`Span`] in
 /// memory per run.

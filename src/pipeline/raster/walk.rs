@@ -107,6 +107,25 @@ impl RowWalk {
         span
     }
 
+    /// The left and right edges (`[row, 16·b, d]` each, see [`DividedEdge`]) on the current
+    /// row and the number of rows from it, at most `rows_left`, that [`RowWalk::next_row`] bounds
+    /// by those two alone (none is the middle vertex's), for a loop that walks them itself;
+    /// then on past those rows. `None` when the current row is the middle vertex's.
+    #[cfg(span_asm)]
+    pub(super) fn take_plain_rows(&mut self, rows_left: i32) -> Option<([i32; 3], [i32; 3], i32)> {
+        let rows = match self.to_mid {
+            0 => return None,
+            above if above > 0 => above.min(rows_left),
+            _ => rows_left,
+        };
+        let edge = |e: &DividedEdge| [e.row, e.b16, e.d.get() as i32];
+        let plain = (edge(&self.left), edge(&self.right), rows);
+        self.left.skip_rows(rows);
+        self.right.skip_rows(rows);
+        self.to_mid = self.to_mid.wrapping_sub(rows);
+        Some(plain)
+    }
+
     /// [`RowWalk::next_row`]'s span on the first row not above the middle vertex, where the
     /// lower edge takes over from the upper one; all three bound it when its centres lie at
     /// the middle vertex's height (the lower on the short side: the right when the long edge
