@@ -60,6 +60,10 @@ pub use facing::{facing, MAX_COORD, MAX_EXTENT};
 pub(crate) use perspective::{leading_zeros, mul_i32, mul_u32, reciprocal};
 use perspective::{Q_BITS, Q_MIN};
 use pixel::f32_varyings;
+#[cfg(all(span_asm, not(soft_float)))]
+pub(crate) use pixel::{PixelRows, PixelRun};
+#[cfg(span_asm)]
+pub(crate) use rows::PlainRows;
 pub(crate) use rows::{AffineRows, WalkedRow, WalkedRows};
 #[cfg(not(soft_float))]
 pub(crate) use small::{SmallTriangle, SMALL_BOX};

@@ -21,7 +21,11 @@
 #![allow(unsafe_code)]
 
 use super::fragment::Lighting;
+#[cfg(span_asm)]
+use super::raster::PlainRows;
 use super::raster::{step_varyings, AffineRows, Setup, Span, SpanSink, WalkedRow, WalkedRows};
+#[cfg(all(span_asm, not(soft_float)))]
+use super::raster::{PixelRows, PixelRun};
 use super::varyings::{texel_coordinates, VertexLit};
 use crate::fixed::{Depth30, FDot16};
 use crate::format::{decode_texel, TextureFormat};
@@ -452,6 +456,12 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         let Some(rows) = &mut pixel_rows else {
             return false;
         };
+        #[cfg(all(span_asm, not(soft_float)))]
+        if let Some(k) = self.run565 {
+            if self.draw_pixel_rows_in_assembly(&k, rows).is_some() {
+                return true;
+            }
+        }
         self.draw_runs(rows.dz(), || rows.next_row());
         true
     }
@@ -515,14 +525,14 @@ fn texel565(texture: &Repeat565<'_>, u: i32, v: i32) -> u16 {
     u16::from_le_bytes(texel)
 }
 
-/// What [`affine_rows565`] reads and keeps as it walks an affine triangle's rows: [`Run565`]'s
-/// constants and the per-pixel steps (depth, `u`, `v` scaled, light) where the pixel loop loads
-/// them, the two edges and the rows' place in the band (stepped row by row), the depth and
-/// varying planes (see `raster::AffineTerms`), and the counts. The assembly reads the fields at
-/// the offsets asserted below.
+/// What the row routines ([`affine_rows565`], [`pixel_rows565`]) read and keep as they walk a
+/// triangle's rows: [`Run565`]'s constants and the per-pixel steps (depth, then `u`, `v` scaled
+/// and light for linear varyings) where the pixel loop loads them, the two edges and the rows'
+/// place in the band (stepped row by row), the depth plane, the counts, and the routine's own
+/// planes `P`. The assembly reads the fields at the offsets asserted below.
 #[cfg(span_asm)]
 #[repr(C)]
-struct AffineRun565 {
+struct RowWalk565<P> {
     k: Run565,
     steps: [i32; 4],
     /// `[row, 16·b, d]` of the left and right edges on the next row (see `raster::PlainRows`).
@@ -538,45 +548,120 @@ struct AffineRun565 {
     color_row: *mut u16,
     depth_row: *mut u16,
     stride: u32,
-    /// The depth plane (24.40): the origin's value as `[low, high]` words, and per pixel in x
-    /// and y.
+    /// The depth plane (see `raster::RowCursor::depth_terms`): the origin's value as `[low,
+    /// high]` words, and per pixel in x and y.
     z_origin: [u32; 2],
     z_dx: i32,
     z_dy: i32,
-    /// `[base, origin, gx, gy]` of `u`, `v` and light, one after the other (the triangle's
-    /// `raster::AffineTerms::planes`).
-    planes: *const [i32; 4],
-    v_shift: u32,
     /// Pixels of the runs drawn, and runs.
     pixels: u32,
     runs: u32,
     /// The assembly's one spill: the run's byte offset.
     scratch: i32,
+    planes: P,
 }
+
+/// [`affine_rows565`]'s planes: `[base, origin, gx, gy]` of `u`, `v` and light (see
+/// `raster::AffineRows::terms`), and the left shift of `v`.
+#[cfg(span_asm)]
+#[repr(C)]
+struct Affine565 {
+    terms: [[i32; 4]; 3],
+    v_shift: u32,
+}
+
+/// [`pixel_rows565`]'s planes: `[origin, dx, dy]` of `s`, `t0`, `t1`, `t2`, then `v0` (see
+/// `raster::PixelRows::float_terms`).
+#[cfg(all(span_asm, not(soft_float)))]
+type Pixel565 = [f32; 15];
 
 #[cfg(span_asm)]
 const _: () = {
     use core::mem::offset_of;
-    assert!(offset_of!(AffineRun565, steps) == 20 && offset_of!(AffineRun565, left) == 36);
-    assert!(offset_of!(AffineRun565, right) == 48 && offset_of!(AffineRun565, last) == 60);
-    assert!(offset_of!(AffineRun565, dy) == 64 && offset_of!(AffineRun565, dy_end) == 68);
-    assert!(offset_of!(AffineRun565, color_row) == 72 && offset_of!(AffineRun565, depth_row) == 76);
-    assert!(offset_of!(AffineRun565, stride) == 80 && offset_of!(AffineRun565, z_origin) == 84);
-    assert!(offset_of!(AffineRun565, z_dx) == 92 && offset_of!(AffineRun565, planes) == 100);
-    assert!(offset_of!(AffineRun565, v_shift) == 104 && offset_of!(AffineRun565, pixels) == 108);
-    assert!(offset_of!(AffineRun565, runs) == 112 && offset_of!(AffineRun565, scratch) == 116);
+    type W = RowWalk565<Affine565>;
+    assert!(offset_of!(W, steps) == 20 && offset_of!(W, left) == 36 && offset_of!(W, right) == 48);
+    assert!(offset_of!(W, last) == 60 && offset_of!(W, dy) == 64 && offset_of!(W, dy_end) == 68);
+    assert!(offset_of!(W, color_row) == 72 && offset_of!(W, depth_row) == 76 && offset_of!(W, stride) == 80);
+    assert!(offset_of!(W, z_origin) == 84 && offset_of!(W, z_dx) == 92 && offset_of!(W, z_dy) == 96);
+    assert!(offset_of!(W, pixels) == 100 && offset_of!(W, runs) == 104 && offset_of!(W, scratch) == 108);
+    assert!(offset_of!(W, planes) == 112 && offset_of!(Affine565, v_shift) == 48);
     // The varyings' order in `planes`.
     assert!(VertexLit::U == 0 && VertexLit::V == 1 && VertexLit::LIGHT == 2);
 };
+#[cfg(all(span_asm, not(soft_float)))]
+const _: () = assert!(core::mem::offset_of!(RowWalk565<Pixel565>, planes) == 112);
+
+/// Rows that a row routine draws in part ([`PlainRows`]), the rest with [`Shader::run`].
+#[cfg(span_asm)]
+trait AssemblyRows<const V: usize> {
+    /// How the varyings of the rows drawn by [`Shader::run`] step.
+    type Run: RunVaryings<V>;
+    /// See `raster::RowCursor::take_plain_rows`.
+    fn take_plain_rows(&mut self) -> Option<PlainRows>;
+    /// The next row, `None` after the last; `Some(None)` for a row with no pixel centre.
+    fn next_run(&mut self) -> Option<Option<RunRow<Self::Run>>>;
+}
+
+#[cfg(span_asm)]
+impl<const V: usize> AssemblyRows<V> for AffineRows<'_, V> {
+    type Run = Stepped<V>;
+    fn take_plain_rows(&mut self) -> Option<PlainRows> {
+        AffineRows::take_plain_rows(self)
+    }
+    fn next_run(&mut self) -> Option<Option<RunRow<Stepped<V>>>> {
+        self.next_row()
+    }
+}
+
+#[cfg(all(span_asm, not(soft_float)))]
+impl<const V: usize> AssemblyRows<V> for PixelRows<'_, V> {
+    type Run = PixelRun<V>;
+    fn take_plain_rows(&mut self) -> Option<PlainRows> {
+        PixelRows::take_plain_rows(self)
+    }
+    fn next_run(&mut self) -> Option<Option<RunRow<PixelRun<V>>>> {
+        self.next_row()
+    }
+}
 
 #[cfg(span_asm)]
 impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
-    /// Draws an affine triangle's rows with [`affine_rows565`] (its rows bounded by two edges;
-    /// the middle vertex's row with [`Shader::run`]), for the variant [`Run565`] describes
-    /// with constants `k`; `None`, drawing nothing, when the triangle's box does not lie in the
-    /// band or its varyings are not the three that variant has.
+    /// Draws an affine triangle's rows with [`affine_rows565`] where it can (see
+    /// [`Shader::rows_in_assembly`]); `None`, drawing nothing, when the triangle's box does not
+    /// lie in the band or its varyings are not the three that [`Run565`]'s variant has.
     fn draw_affine_rows_in_assembly<const V: usize>(&mut self, k: &Run565, rows: &mut AffineRows<'_, V>) -> Option<()> {
-        let (x0, x1, y0, y1) = rows.remaining_box();
+        let (terms, step) = rows.terms();
+        let (Ok(terms), Ok(step)) = (<&[[i32; 4]; 3]>::try_from(&terms[..]), <&[i32; 3]>::try_from(&step[..])) else {
+            return None;
+        };
+        let v_shift = self.v_shift & 31;
+        let (z, area) = (rows.depth_terms(), rows.remaining_box());
+        let steps = [z.3, step[0], step[1].wrapping_shl(v_shift), step[2]];
+        let walk = RowWalk565::new(k, steps, z, Affine565 { terms: *terms, v_shift });
+        self.rows_in_assembly(rows, walk, area, affine_rows565)
+    }
+
+    /// Draws a triangle's rows with per-pixel perspective with [`pixel_rows565`] where it can
+    /// (see [`Shader::rows_in_assembly`]); `None`, drawing nothing, as
+    /// [`Shader::draw_affine_rows_in_assembly`].
+    #[cfg(not(soft_float))]
+    fn draw_pixel_rows_in_assembly<const V: usize>(&mut self, k: &Run565, rows: &mut PixelRows<'_, V>) -> Option<()> {
+        let planes = rows.float_terms()?;
+        let (z, area) = (rows.depth_terms(), rows.remaining_box());
+        let walk = RowWalk565::new(k, [z.3, 0, 0, 0], z, planes);
+        self.rows_in_assembly(rows, walk, area, pixel_rows565)
+    }
+
+    /// Draws `rows` (the rest of a triangle's, in the box `(x0, x1, y0, y1)`): those bounded
+    /// by two edges with `draw` (a row routine, its record `walk`), the middle vertex's with
+    /// [`Shader::run`]; `None`, drawing nothing, when the box does not lie in the band.
+    fn rows_in_assembly<const V: usize, P>(
+        &mut self,
+        rows: &mut impl AssemblyRows<V>,
+        mut walk: RowWalk565<P>,
+        (x0, x1, y0, y1): (i32, i32, i32, i32),
+        draw: fn(&mut RowWalk565<P>) -> u32,
+    ) -> Option<()> {
         let (width, stride) = (usize::try_from(x1 - x0 + 1).ok()?, self.area.width());
         let first = self.area.run_start(x0, y0, width)?;
         let last_row = self.area.run_start(x0, y1, width)?;
@@ -589,34 +674,9 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         if colors.len() != entries || last_row - first != box_rows * stride {
             return None;
         }
-        let (colors, terms) = (colors.as_mut_ptr(), rows.terms());
-        // The assembly reads the planes of `u`, `v` and light, and no other.
-        let (Ok(planes), step) = (<&[[i32; 4]; 3]>::try_from(&terms.planes[..]), terms.step) else {
-            return None;
-        };
-        let (u, v, light) = (VertexLit::U, VertexLit::V, VertexLit::LIGHT);
-        let v_shift = self.v_shift & 31;
-        let mut walk = AffineRun565 {
-            k: *k,
-            steps: [terms.dz, *step.get(u)?, step.get(v)?.wrapping_shl(v_shift), *step.get(light)?],
-            left: [0; 3],
-            right: [0; 3],
-            last: x1 - x0,
-            dy: 0,
-            dy_end: 0,
-            color_row: colors,
-            depth_row: depths,
-            stride: (stride * 2) as u32,
-            z_origin: [terms.z_origin as u32, (terms.z_origin >> 32) as u32],
-            z_dx: terms.z_dx,
-            z_dy: terms.z_dy,
-            planes: planes.as_ptr(),
-            v_shift,
-            pixels: 0,
-            runs: 0,
-            scratch: 0,
-        };
-        let (base, mut rejected) = (*self.base, 0);
+        let colors = colors.as_mut_ptr();
+        (walk.last, walk.stride) = (x1 - x0, (stride * 2) as u32);
+        let (base, dz, mut rejected) = (*self.base, walk.steps[0], 0);
         loop {
             if let Some(plain) = rows.take_plain_rows() {
                 // Within the box's rows (`take_plain_rows` gives no other; checked, as the
@@ -626,23 +686,51 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
                 else {
                     continue;
                 };
-                (walk.left, walk.right, walk.dy, walk.dy_end) =
-                    (plain.left, plain.right, plain.dy, plain.dy + plain.rows);
+                (walk.left, walk.right) = (plain.left, plain.right);
+                (walk.dy, walk.dy_end) = (plain.dy, plain.dy + plain.rows);
                 walk.color_row = colors.wrapping_add(from_top * stride);
                 walk.depth_row = depths.wrapping_add(from_top * stride);
-                rejected += affine_rows565(&mut walk);
+                rejected += draw(&mut walk);
                 continue;
             }
-            match rows.next_row() {
+            match rows.next_run() {
                 None => break,
                 Some(None) => {}
-                Some(Some((at, z, vary))) => self.run(&base, at, (z, terms.dz), vary),
+                Some(Some((at, z, vary))) => self.run(&base, at, (z, dz), vary),
             }
         }
         self.written += walk.pixels - rejected;
         self.rejected += rejected;
         self.runs += walk.runs;
         Some(())
+    }
+}
+
+#[cfg(span_asm)]
+impl<P> RowWalk565<P> {
+    /// The record for a triangle drawn with constants `k`, per-pixel `steps`, depth plane `z`
+    /// (see `raster::RowCursor::depth_terms`) and the routine's `planes`; the rest set per
+    /// triangle and per run of rows by [`Shader::rows_in_assembly`].
+    fn new(k: &Run565, steps: [i32; 4], (z_origin, z_dx, z_dy, _): (i64, i32, i32, i32), planes: P) -> Self {
+        RowWalk565 {
+            k: *k,
+            steps,
+            left: [0; 3],
+            right: [0; 3],
+            last: 0,
+            dy: 0,
+            dy_end: 0,
+            color_row: core::ptr::null_mut(),
+            depth_row: core::ptr::null_mut(),
+            stride: 0,
+            z_origin: [z_origin as u32, (z_origin >> 32) as u32],
+            z_dx,
+            z_dy,
+            pixels: 0,
+            runs: 0,
+            scratch: 0,
+            planes,
+        }
     }
 }
 
@@ -747,6 +835,25 @@ macro_rules! asm565 {
             "add r8, r8, r11\n",
             "add r9, r9, r12\n",
             "adds r0, r0, #2\n",
+        )
+    };
+    // The varyings `(t · (1 / s) + v0) as i32` (`raster::PixelRun`) from `s` in `s0`, the `t`s
+    // in `s1`-`s3`, the `v0`s in `s4`-`s6` and 1.0 in `s11`, each operation rounded as the Rust
+    // code's f32 operators; `s12`-`s15` free.
+    (perspective) => {
+        concat!(
+            "vdiv.f32 s12, s11, s0\n",
+            "vmul.f32 s13, s1, s12\n",
+            "vmul.f32 s14, s2, s12\n",
+            "vmul.f32 s15, s3, s12\n",
+            "vadd.f32 s13, s13, s4\n",
+            "vadd.f32 s14, s14, s5\n",
+            "vadd.f32 s15, s15, s6\n",
+            "vcvt.s32.f32 s13, s13\n",
+            "vcvt.s32.f32 s14, s14\n",
+            "vcvt.s32.f32 s15, s15\n",
+            "vmov r5, r8, s13, s14\n",
+            "vmov r9, s15\n",
         )
     };
     // The texel `(u >> 16 & u_mask) | (v >> 16 & v_mask)` lit as `texture::modulate565_white_with`
@@ -876,19 +983,7 @@ fn run565_perspective(
             "b 3f",
             "2:",
             asm565!(depth_test),
-            // `t · (1 / s) + v0`, rounded after each operation as the Rust code's f32 operators.
-            "vdiv.f32 s12, s11, s0",
-            "vmul.f32 s13, s1, s12",
-            "vmul.f32 s14, s2, s12",
-            "vmul.f32 s15, s3, s12",
-            "vadd.f32 s13, s13, s4",
-            "vadd.f32 s14, s14, s5",
-            "vadd.f32 s15, s15, s6",
-            "vcvt.s32.f32 s13, s13",
-            "vcvt.s32.f32 s14, s14",
-            "vcvt.s32.f32 s15, s15",
-            "vmov r5, r8, s13, s14",
-            "vmov r9, s15",
+            asm565!(perspective),
             asm565!(shade),
             // Step depth and varyings; next pixel.
             "5:",
@@ -925,92 +1020,110 @@ fn run565_perspective(
     rejected
 }
 
-/// Draws the rows `walk` describes (see [`AffineRun565`]): on each, the columns between its
-/// edges (as `raster::PlainRows` defines them) within `0..=last`, from the depth and varyings
-/// at the first (as `raster::AffineTerms` defines them) stepped by `steps`, with the depth test
-/// and shading of [`run565`]; counts the pixels and runs in `walk`. The walk of the rows, the
-/// planes at each run's first pixel and the pixel loop, all in the registers of one routine:
-/// about 70 instructions a row where the Rust walk and [`Shader::run`] took about 140. The
-/// pixels the depth test rejected.
+/// The row routines' shared parts, as template lines (see [`RowWalk565`] for the offsets from
+/// `r3`, and `asm565!` for the pixel loop's registers).
 #[cfg(span_asm)]
-#[allow(
-    clippy::too_many_lines,
-    reason = "one routine, as it must be: split, the row walk and the pixel loop would meet through memory at each row"
-)]
-fn affine_rows565(walk: &mut AffineRun565) -> u32 {
+macro_rules! rows565 {
+    // The steps at [sp] for the pixel loop; r6, r7 free; no pixel rejected yet.
+    (enter) => {
+        concat!(
+            "push {{r6, r7}}\n",
+            "add r6, r3, #20\n",
+            "ldm r6, {{r6, r7, r11, r12}}\n",
+            "push {{r6, r7, r11, r12}}\n",
+            "mov r10, #0\n",
+        )
+    };
+    // At `1:`, the next row (to `9f` after the last): its covered columns `r7..=hi` (to `1b`
+    // when none) from the two edges, its rows below the origin `r0`, the run's ends `r1`,
+    // `r2` and byte offset (in `scratch`), pixels and runs counted, and the depth at its first
+    // pixel `r4`; the edges, `dy` and the row entries on to the next row.
+    (row) => {
+        concat!(
+            "1:\n",
+            "ldrd r0, r1, [r3, #64]\n",
+            "cmp r0, r1\n",
+            "bge 9f\n",
+            "add r1, r0, #1\n",
+            "str r1, [r3, #64]\n",
+            // Both edges and `last`; the edges on to the next row.
+            "add lr, r3, #36\n",
+            "ldm lr, {{r1, r2, r4, r5, r6, r8, r9}}\n",
+            "add r2, r1, r2\n",
+            "add r6, r5, r6\n",
+            "str r2, [r3, #36]\n",
+            "str r6, [r3, #48]\n",
+            // The left edge's first column: 0 when row > d - 1, else (d - 1 - row) / d; at least 0.
+            "sub r7, r4, #1\n",
+            "subs r7, r7, r1\n",
+            "ite lt\n",
+            "movlt r7, #0\n",
+            "udivge r7, r7, r4\n",
+            "bic r7, r7, r7, asr #31\n",
+            // The right edge's last column: -1 when row < 0, else row / d; at most `last`.
+            "cmp r5, #0\n",
+            "ite lt\n",
+            "mvnlt r12, #0\n",
+            "udivge r12, r5, r8\n",
+            "cmp r12, r9\n",
+            "it gt\n",
+            "movgt r12, r9\n",
+            // This row's entries; the next row's.
+            "ldrd r1, r2, [r3, #72]\n",
+            "ldr r6, [r3, #80]\n",
+            "add r4, r1, r6\n",
+            "add r5, r2, r6\n",
+            "strd r4, r5, [r3, #72]\n",
+            "cmp r7, r12\n",
+            "bgt 1b\n",
+            // The run's ends and its byte offset from them; pixels and runs counted.
+            "add r12, r12, #1\n",
+            "add r1, r1, r12, lsl #1\n",
+            "add r2, r2, r12, lsl #1\n",
+            "sub r8, r7, r12\n",
+            "ldrd r11, r12, [r3, #100]\n",
+            "sub r11, r11, r8\n",
+            "add r12, r12, #1\n",
+            "strd r11, r12, [r3, #100]\n",
+            "lsl r8, r8, #1\n",
+            "str r8, [r3, #108]\n",
+            // Depth at the first pixel: (z_origin + z_dx·lo + z_dy·dy) >> 10, low word.
+            "ldrd r4, r5, [r3, #84]\n",
+            "ldrd r11, r12, [r3, #92]\n",
+            "smlal r4, r5, r11, r7\n",
+            "smlal r4, r5, r12, r0\n",
+            "lsr r4, r4, #10\n",
+            "orr r4, r4, r5, lsl #22\n",
+        )
+    };
+    // The rejected pixels' count (`4:`, back to the step at `5:`), and the way out (`9:`).
+    (leave) => {
+        concat!("4:\n", "add r10, r10, #1\n", "b 5b\n", "9:\n", "add sp, sp, #16\n", "pop {{r6, r7}}\n",)
+    };
+}
+
+/// Draws the rows `walk` describes with affine varyings: on each, the columns between its
+/// edges (as `raster::PlainRows` defines them) within `0..=last`, from the depth and varyings
+/// at the first (`raster::RowCursor::depth_terms`, `raster::AffineRows::terms`) stepped by
+/// `steps`, with the depth test and shading of [`run565`]; counts the pixels and runs in `walk`.
+/// The walk of the rows, the planes at each run's first pixel and the pixel loop, all in the
+/// registers of one routine: about 65 instructions a row where the Rust walk and
+/// [`Shader::run`] took about 140. The pixels the depth test rejected.
+#[cfg(span_asm)]
+fn affine_rows565(walk: &mut RowWalk565<Affine565>) -> u32 {
     let rejected: u32;
-    // SAFETY: on each of the rows `dy..dy_end`, the loop writes colour and depth entries `lo..=hi` of
-    // the row's `color_row` and `depth_row`, with `0 <= lo` (the `bic`) and `hi <= last` (the
-    // `movgt`), the rows `stride` bytes (one band row) apart: within the triangle's box, which
-    // `draw_affine_rows_in_assembly` checked lies in the band's slices (both `run_start`s and
-    // their distance) and the rows within it; it reads texels as `run565` does and the 12
-    // words at `planes` (three varyings' terms, checked there), writes `walk`'s fields, and
-    // restores `r6`, `r7` and `sp`.
+    // SAFETY: on each of the rows `dy..dy_end`, the loop writes colour and depth entries
+    // `lo..=hi` of the row's `color_row` and `depth_row`, with `0 <= lo` (the `bic`) and `hi <=
+    // last` (the `movgt`), the rows `stride` bytes (one band row) apart: within the triangle's
+    // box, which `rows_in_assembly` checked lies in the band's slices (both `run_start`s and
+    // their distance) and the rows within it; it reads texels as `run565` does, reads and
+    // writes `walk`'s fields, and restores `r6`, `r7` and `sp`.
     unsafe {
         core::arch::asm!(
-            // The steps at [sp] for the pixel loop's `ldm`; r6, r7 free.
-            "push {{r6, r7}}",
-            "add r6, r3, #20",
-            "ldm r6, {{r6, r7, r11, r12}}",
-            "push {{r6, r7, r11, r12}}",
-            "mov r10, #0",
-            // The next row, if any; `dy` on to the next.
-            "1:",
-            "ldrd r0, r1, [r3, #64]",
-            "cmp r0, r1",
-            "bge 9f",
-            "add r1, r0, #1",
-            "str r1, [r3, #64]",
-            // Both edges and `last`; the edges on to the next row.
-            "add lr, r3, #36",
-            "ldm lr, {{r1, r2, r4, r5, r6, r8, r9}}",
-            "add r2, r1, r2",
-            "add r6, r5, r6",
-            "str r2, [r3, #36]",
-            "str r6, [r3, #48]",
-            // The left edge's first column: 0 when row > d - 1, else (d - 1 - row) / d; at least 0.
-            "sub r7, r4, #1",
-            "subs r7, r7, r1",
-            "ite lt",
-            "movlt r7, #0",
-            "udivge r7, r7, r4",
-            "bic r7, r7, r7, asr #31",
-            // The right edge's last column: -1 when row < 0, else row / d; at most `last`.
-            "cmp r5, #0",
-            "ite lt",
-            "mvnlt r12, #0",
-            "udivge r12, r5, r8",
-            "cmp r12, r9",
-            "it gt",
-            "movgt r12, r9",
-            // This row's entries; the next row's.
-            "ldrd r1, r2, [r3, #72]",
-            "ldr r6, [r3, #80]",
-            "add r4, r1, r6",
-            "add r5, r2, r6",
-            "strd r4, r5, [r3, #72]",
-            "cmp r7, r12",
-            "bgt 1b",
-            // The run's ends and its byte offset from them; pixels and runs counted.
-            "add r12, r12, #1",
-            "add r1, r1, r12, lsl #1",
-            "add r2, r2, r12, lsl #1",
-            "sub r8, r7, r12",
-            "ldrd r11, r12, [r3, #108]",
-            "sub r11, r11, r8",
-            "add r12, r12, #1",
-            "strd r11, r12, [r3, #108]",
-            "lsl r8, r8, #1",
-            "str r8, [r3, #116]",
-            // Depth at the first pixel: (z_origin + z_dx·lo + z_dy·dy) >> 10, low word.
-            "ldrd r4, r5, [r3, #84]",
-            "ldrd r11, r12, [r3, #92]",
-            "smlal r4, r5, r11, r7",
-            "smlal r4, r5, r12, r0",
-            "lsr r4, r4, #10",
-            "orr r4, r4, r5, lsl #22",
+            rows565!(enter),
+            rows565!(row),
             // Varyings at the first pixel: base + ((origin + gx·lo + gy·dy) >> 8); v scaled.
-            "ldr r6, [r3, #100]",
+            "add r6, r3, #112",
             "ldm r6!, {{r9, r11, r12, lr}}",
             "mla r11, r12, r7, r11",
             "mla r11, lr, r0, r11",
@@ -1023,9 +1136,9 @@ fn affine_rows565(walk: &mut AffineRun565) -> u32 {
             "mla r11, r12, r7, r11",
             "mla r11, lr, r0, r11",
             "add r9, r9, r11, asr #8",
-            "ldr r11, [r3, #104]",
+            "ldr r11, [r6]",
             "lsl r8, r8, r11",
-            "ldr r0, [r3, #116]",
+            "ldr r0, [r3, #108]",
             // The pixels, as `run565`'s loop.
             "2:",
             asm565!(depth_test),
@@ -1034,13 +1147,79 @@ fn affine_rows565(walk: &mut AffineRun565) -> u32 {
             asm565!(step),
             "bne 2b",
             "b 1b",
-            "4:",
-            "add r10, r10, #1",
-            "b 5b",
-            "9:",
-            "add sp, sp, #16",
-            "pop {{r6, r7}}",
-            in("r3") walk as *mut AffineRun565,
+            rows565!(leave),
+            in("r3") walk as *mut RowWalk565<Affine565>,
+            out("r0") _,
+            out("r1") _,
+            out("r2") _,
+            out("r4") _,
+            out("r5") _,
+            out("r8") _,
+            out("r9") _,
+            out("r10") rejected,
+            out("r11") _,
+            out("r12") _,
+            out("lr") _,
+        );
+    }
+    rejected
+}
+
+/// [`affine_rows565`] with perspective at every pixel (`raster::PixelRows`): at each run's
+/// first pixel (column `lo`, row `dy`), `s` and each `t` are `origin + dx·lo + dy·dy` in f32
+/// (`raster::PixelRows::float_terms`), then each pixel is [`run565_perspective`]'s, `s` and `t`
+/// stepping by their `dx`. The planes stay in `s16`-`s27` and `v0` in `s4`-`s6` for the whole
+/// call; it saves and restores `s0`-`s27` itself (see [`run565_perspective`]).
+#[cfg(all(span_asm, not(soft_float)))]
+fn pixel_rows565(walk: &mut RowWalk565<Pixel565>) -> u32 {
+    let rejected: u32;
+    // SAFETY: as `affine_rows565`'s (the same rows, entries and texels); it also restores
+    // `s0`-`s27`.
+    unsafe {
+        core::arch::asm!(
+            "vpush {{s0-s27}}",
+            rows565!(enter),
+            "add r6, r3, #112",
+            "vldm r6!, {{s16-s27}}",
+            "vldm r6, {{s4-s6}}",
+            "vmov.f32 s11, #1.0",
+            rows565!(row),
+            // s and t at the first pixel: origin + dx·lo + dy·dy, rounded as `Plane::at`.
+            "vmov s12, r7",
+            "vmov s13, r0",
+            "vcvt.f32.s32 s12, s12",
+            "vcvt.f32.s32 s13, s13",
+            "vmov.f32 s0, s16",
+            "vmla.f32 s0, s17, s12",
+            "vmla.f32 s0, s18, s13",
+            "vmov.f32 s1, s19",
+            "vmla.f32 s1, s20, s12",
+            "vmla.f32 s1, s21, s13",
+            "vmov.f32 s2, s22",
+            "vmla.f32 s2, s23, s12",
+            "vmla.f32 s2, s24, s13",
+            "vmov.f32 s3, s25",
+            "vmla.f32 s3, s26, s12",
+            "vmla.f32 s3, s27, s13",
+            "ldr r0, [r3, #108]",
+            // The pixels, as `run565_perspective`'s loop.
+            "2:",
+            asm565!(depth_test),
+            asm565!(perspective),
+            asm565!(shade),
+            "5:",
+            "vadd.f32 s0, s0, s17",
+            "vadd.f32 s1, s1, s20",
+            "vadd.f32 s2, s2, s23",
+            "vadd.f32 s3, s3, s26",
+            "ldr r6, [sp]",
+            "add r4, r4, r6",
+            "adds r0, r0, #2",
+            "bne 2b",
+            "b 1b",
+            rows565!(leave),
+            "vpop {{s0-s27}}",
+            in("r3") walk as *mut RowWalk565<Pixel565>,
             out("r0") _,
             out("r1") _,
             out("r2") _,

@@ -188,6 +188,36 @@ impl<const V: usize> Setup<V> {
     }
 }
 
+#[cfg(all(span_asm, not(soft_float)))]
+impl<const V: usize> PixelRows<'_, V> {
+    /// See [`RowCursor::take_plain_rows`].
+    pub(crate) fn take_plain_rows(&mut self) -> Option<super::rows::PlainRows> {
+        self.cursor.take_plain_rows(self.setup)
+    }
+
+    /// See [`RowCursor::remaining_box`].
+    pub(crate) fn remaining_box(&self) -> (i32, i32, i32, i32) {
+        self.cursor.remaining_box(self.setup)
+    }
+
+    /// See [`RowCursor::depth_terms`].
+    pub(crate) fn depth_terms(&self) -> (i64, i32, i32, i32) {
+        self.cursor.depth_terms(self.setup)
+    }
+
+    /// For three varyings: `[origin, dx, dy]` of `s`, `t0`, `t1` and `t2`, then `v0`, as
+    /// [`PixelRows::next_row`] and [`PixelRun`] take them (`s` and `t` at column `x` of the box
+    /// on the row `dy` below the origin are `origin + dx·x + dy·dy`, from `x` and `dy` as f32,
+    /// each operation rounded; they step by `dx` a pixel). `None` for another count.
+    pub(crate) fn float_terms(&self) -> Option<[f32; 15]> {
+        let p = &self.planes;
+        let (t, v0) = (<&[Plane; 3]>::try_from(&p.t[..]).ok()?, <&[F32; 3]>::try_from(&p.v0[..]).ok()?);
+        let [s, t0, t1, t2] = [&p.s, &t[0], &t[1], &t[2]].map(|q| [q.origin.0, q.dx.0, q.dy.0]);
+        let [[a, b, c], [d, e, f], [g, h, i], [j, k, l]] = [s, t0, t1, t2];
+        Some([a, b, c, d, e, f, g, h, i, j, k, l, v0[0].0, v0[1].0, v0[2].0])
+    }
+}
+
 impl<const V: usize> PixelRows<'_, V> {
     /// The per-pixel depth step in 2.30.
     pub(crate) fn dz(&self) -> i32 {

@@ -228,8 +228,8 @@ impl<const V: usize> AffineRows<'_, V> {
     }
 }
 
-/// Rows of [`AffineRows`] for a loop that walks them itself (the span loop's assembly, see
-/// `span::AffineRun565`): the left and right edges (`[row, 16·b, d]`, see `walk::DividedEdge`)
+/// Rows of a triangle for a loop that walks them itself (the span loop's assembly, see
+/// `span::RowWalk565`): the left and right edges (`[row, 16·b, d]`, see `walk::DividedEdge`)
 /// on the first row, the first row's frame row and its rows below the origin, and the number
 /// of rows. On each, the covered columns of the box are `max(first, 0) ..= min(last_of_right,
 /// x1 - x0)`, with `first` the left
@@ -244,49 +244,59 @@ pub(crate) struct PlainRows {
     pub(crate) rows: i32,
 }
 
-/// The planes of an affine triangle for a loop that walks its rows itself: at column `x` (of the
-/// box) on the row `dy` below the origin, the depth (2.30) is the low 32 bits of `(z_origin +
-/// z_dx·x + z_dy·dy) >> 10` (in i64), and varying `k` is `base[k] + ((origin[k] + gx[k]·x +
-/// gy[k]·dy) >> 8)` (wrapping), stepping by `step[k]` a pixel and the depth by `dz`.
 #[cfg(span_asm)]
-pub(crate) struct AffineTerms<'a, const V: usize> {
-    pub(crate) z_origin: i64,
-    pub(crate) z_dx: i32,
-    pub(crate) z_dy: i32,
-    pub(crate) dz: i32,
-    /// Per varying, `[base, origin, gx, gy]`.
-    pub(crate) planes: &'a [[i32; 4]; V],
-    pub(crate) step: &'a [FDot16; V],
-}
-
-#[cfg(span_asm)]
-impl<'s, const V: usize> AffineRows<'s, V> {
-    /// The rows from the current one that need no middle-vertex handoff (see [`PlainRows`]),
-    /// for a loop that walks them itself; the walk goes on after them. `None` when the current
-    /// row is the middle vertex's (then [`AffineRows::next_row`]) or past the last.
-    pub(crate) fn take_plain_rows(&mut self) -> Option<PlainRows> {
-        let (s, cursor) = (self.setup, &mut self.cursor);
-        let rows_left = s.y1 - cursor.y + 1;
+impl RowCursor {
+    /// The rows from the current one of `s` (the set-up this cursor walks) that need no
+    /// middle-vertex handoff (see [`PlainRows`]), for a loop that walks them itself; the walk
+    /// goes on after them. `None` when the current row is the middle vertex's (then
+    /// `next_row`) or past the last.
+    pub(crate) fn take_plain_rows<const V: usize>(&mut self, s: &Setup<V>) -> Option<PlainRows> {
+        let rows_left = s.y1 - self.y + 1;
         if rows_left <= 0 {
             return None;
         }
-        let (left, right, rows) = cursor.walk.take_plain_rows(rows_left)?;
-        let plain = PlainRows { left, right, y: cursor.y, dy: cursor.y - s.origin_row, rows };
-        cursor.y += rows;
+        let (left, right, rows) = self.walk.take_plain_rows(rows_left)?;
+        let plain = PlainRows { left, right, y: self.y, dy: self.y - s.origin_row, rows };
+        self.y += rows;
         Some(plain)
     }
 
     /// The box's columns `x0..=x1` and the rows from the current one to the last: `(x0, x1,
     /// y, y1)`, frame pixels.
-    pub(crate) fn remaining_box(&self) -> (i32, i32, i32, i32) {
-        let s = self.setup;
-        (s.x0, s.x1, self.cursor.y, s.y1)
+    pub(crate) fn remaining_box<const V: usize>(&self, s: &Setup<V>) -> (i32, i32, i32, i32) {
+        (s.x0, s.x1, self.y, s.y1)
     }
 
-    /// The triangle's depth and varying planes (see [`AffineTerms`]).
-    pub(crate) fn terms(&self) -> AffineTerms<'s, V> {
-        let (c, (planes, step)) = (&self.cursor, self.planes.terms());
-        AffineTerms { z_origin: self.setup.z_origin, z_dx: c.z_dx, z_dy: c.z_dy, dz: self.dz, planes, step }
+    /// The depth plane as a loop that walks the rows itself takes it: `(z_origin, z_dx, z_dy,
+    /// dz)`, the depth (2.30) at column `x` of the box on the row `dy` below the origin being the
+    /// low 32 bits of `(z_origin + z_dx·x + z_dy·dy) >> 10` (in i64), stepping by `dz` a pixel.
+    pub(crate) fn depth_terms<const V: usize>(&self, s: &Setup<V>) -> (i64, i32, i32, i32) {
+        (s.z_origin, self.z_dx, self.z_dy, self.dz)
+    }
+}
+
+#[cfg(span_asm)]
+impl<'s, const V: usize> AffineRows<'s, V> {
+    /// See [`RowCursor::take_plain_rows`].
+    pub(crate) fn take_plain_rows(&mut self) -> Option<PlainRows> {
+        self.cursor.take_plain_rows(self.setup)
+    }
+
+    /// See [`RowCursor::remaining_box`].
+    pub(crate) fn remaining_box(&self) -> (i32, i32, i32, i32) {
+        self.cursor.remaining_box(self.setup)
+    }
+
+    /// See [`RowCursor::depth_terms`].
+    pub(crate) fn depth_terms(&self) -> (i64, i32, i32, i32) {
+        self.cursor.depth_terms(self.setup)
+    }
+
+    /// Each varying's `[base, origin, gx, gy]` (24.8 but the base, 16.16), its value at column
+    /// `x` of the box on the row `dy` below the origin being `base + ((origin + gx·x + gy·dy) >>
+    /// 8)` (wrapping), and the steps per pixel.
+    pub(crate) fn terms(&self) -> (&'s [[i32; 4]; V], &'s [FDot16; V]) {
+        self.planes.terms()
     }
 }
 
