@@ -282,9 +282,6 @@ pub(super) struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     pub(super) written: u32,
     pub(super) rejected: u32,
     pub(super) runs: u32,
-    /// The assembly span loop's constants, when this is the variant it draws (see [`Run565`]).
-    #[cfg(span_asm)]
-    run565: Option<Run565>,
 }
 
 impl<'b, 's, C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool>
@@ -294,19 +291,7 @@ impl<'b, 's, C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bo
     /// frame), from `base` lit by `lighting`, with nothing drawn yet.
     #[inline(always)]
     pub(super) fn new((area, color, depth): (BandArea, &'b mut [C], D), base: &'s B, lighting: &'s Lt) -> Self {
-        Shader {
-            #[cfg(span_asm)]
-            run565: Run565::of::<C, B, Lt, DITHER>(base),
-            area,
-            color,
-            depth,
-            base,
-            v_shift: base.v_shift(),
-            lighting,
-            written: 0,
-            rejected: 0,
-            runs: 0,
-        }
+        Shader { area, color, depth, base, v_shift: base.v_shift(), lighting, written: 0, rejected: 0, runs: 0 }
     }
 }
 
@@ -414,7 +399,7 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
     #[inline(never)]
     pub(super) fn draw_affine_rows<const V: usize>(&mut self, mut rows: AffineRows<'_, V>) {
         #[cfg(span_asm)]
-        if let Some(k) = self.run565 {
+        if let Some(k) = self.run565() {
             if self.draw_affine_rows_in_assembly(&k, &mut rows).is_some() {
                 return;
             }
@@ -457,7 +442,7 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
             return false;
         };
         #[cfg(all(span_asm, not(soft_float)))]
-        if let Some(k) = self.run565 {
+        if let Some(k) = self.run565() {
             if self.draw_pixel_rows_in_assembly(&k, rows).is_some() {
                 return true;
             }
@@ -781,6 +766,12 @@ impl Run565 {
 
 #[cfg(span_asm)]
 impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
+    /// The constants of [`run565`] for this triangle, when its variant is the one it draws.
+    #[inline(always)]
+    fn run565(&self) -> Option<Run565> {
+        Run565::of::<C, B, Lt, DITHER>(self.base)
+    }
+
     /// The run of `len` pixels from band entry `start` (`BandArea::run_start` gave it) by
     /// [`run565`] when this triangle's variant is the one it draws: the pixels the depth test
     /// rejected. `None`, drawing nothing, for any other variant.
@@ -792,7 +783,7 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
         (z, dz): (Depth30, i32),
         vary: &R,
     ) -> Option<u32> {
-        let constants = self.run565.as_ref()?;
+        let constants = &self.run565()?;
         // SAFETY: `run_start` gave `start` only with `start + len <= rows · width`.
         let depths = unsafe { self.depth.run_u16(start, len) }?;
         let colors = C::as_rgb565_values(colors_of(self.color, start, len)?)?;

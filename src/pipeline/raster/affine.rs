@@ -18,17 +18,33 @@ use crate::math::{
 /// costs the same on every target, FPU or not, and gives the same value for a pixel whichever
 /// band draws it.
 ///
-/// Each varying's terms lie together, `[base, origin, gx, gy]`, at the start (`repr(C)`): the
-/// span loop's assembly reads them there, four with one `ldm` (see `span::AffineRun565`).
+/// The terms are vertex 0's value (16.16; the plane is relative to it), then the plane's
+/// `origin`, `gx` and `gy` (24.8), each varying's four together (`terms`) where the span loop's
+/// assembly reads them (`cfg(span_asm)`: four with one `ldm`, see `span::Affine565`), term by
+/// term elsewhere (`base`, `origin`, `gx`, `gy`), which Armv6-M's and RISC-V's set-up and rows
+/// measured faster (thumbv6m +20k instructions a frame, riscv32imc +30k, with them together).
+/// Read through [`AffinePlanes::term`].
 #[derive(Clone, Copy, Debug)]
-#[repr(C)]
 pub(super) struct AffinePlanes<const V: usize> {
-    /// Per varying: vertex 0's value (16.16; the plane is relative to it), then the plane's
-    /// `origin`, `gx` and `gy` (24.8).
+    #[cfg(span_asm)]
     terms: [[i32; 4]; V],
+    #[cfg(not(span_asm))]
+    base: [FDot16; V],
+    #[cfg(not(span_asm))]
+    origin: [FDot8; V],
+    #[cfg(not(span_asm))]
+    gx: [FDot8; V],
+    #[cfg(not(span_asm))]
+    gy: [FDot8; V],
     /// `gx` rounded to whole units: the per-pixel step along a row.
     step: [FDot16; V],
 }
+
+/// Which term of a varying's plane (see [`AffinePlanes::term`]).
+const BASE: usize = 0;
+const ORIGIN: usize = 1;
+const GX: usize = 2;
+const GY: usize = 3;
 
 impl<const V: usize> AffinePlanes<V> {
     /// The planes through the three vertices' values: the weight of vertex 1 is `E_1 / area`
@@ -53,6 +69,9 @@ impl<const V: usize> AffinePlanes<V> {
         let per_pixel = |c: i32| F32::from(c * 16) * inv_area;
         let (b1x, b1y, b1o) = (per_pixel(edges[1].a), per_pixel(edges[1].b), F32::from(edges[1].c) * inv_area);
         let (b2x, b2y, b2o) = (per_pixel(edges[2].a), per_pixel(edges[2].b), F32::from(edges[2].c) * inv_area);
+        #[cfg(not(span_asm))]
+        let mut p = AffinePlanes { base: *v0, origin: [0; V], gx: [0; V], gy: [0; V], step: [0; V] };
+        #[cfg(span_asm)]
         let mut p = AffinePlanes { terms: v0.map(|b| [b, 0, 0, 0]), step: [0; V] };
         for k in 0..V {
             let (d1, d2) = (d1[k], d2[k]);
@@ -83,6 +102,9 @@ impl<const V: usize> AffinePlanes<V> {
         let (e1, e2) = (&edges[1], &edges[2]);
         // `v0`'s values stand in until `set` sets every varying's terms: a copy is a few stores,
         // where zeros are a `memset` call on Armv6-M.
+        #[cfg(not(span_asm))]
+        let mut p = AffinePlanes { base: *v0, origin: *v0, gx: *v0, gy: *v0, step: *v0 };
+        #[cfg(span_asm)]
         let mut p = AffinePlanes { terms: v0.map(|b| [b; 4]), step: *v0 };
         for k in 0..V {
             let (d1, d2) = (d1[k], d2[k]);
@@ -114,8 +136,29 @@ impl<const V: usize> AffinePlanes<V> {
         if u64::from(abs(o)) + mul_u32_small(abs(gx), w) + mul_u32_small(abs(gy), h) >= 1 << 30 {
             return None;
         }
-        (self.terms[k][1], self.terms[k][2], self.terms[k][3], self.step[k]) = (o, gx, gy, fdot8_round(gx));
+        self.step[k] = fdot8_round(gx);
+        #[cfg(span_asm)]
+        {
+            self.terms[k] = [self.terms[k][BASE], o, gx, gy];
+        }
+        #[cfg(not(span_asm))]
+        {
+            (self.origin[k], self.gx[k], self.gy[k]) = (o, gx, gy);
+        }
         Some(())
+    }
+
+    /// Term `t` (`BASE`, `ORIGIN`, `GX` or `GY`) of varying `k`.
+    #[inline(always)]
+    fn term(&self, k: usize, t: usize) -> i32 {
+        #[cfg(span_asm)]
+        {
+            self.terms[k][t]
+        }
+        #[cfg(not(span_asm))]
+        {
+            [&self.base, &self.origin, &self.gx, &self.gy][t][k]
+        }
     }
 
     /// Each varying's `[base, origin, gx, gy]` (see [`AffinePlanes::at`]), and the steps.
@@ -128,8 +171,8 @@ impl<const V: usize> AffinePlanes<V> {
     #[inline(always)]
     pub(super) fn at(&self, x: i32, y: i32) -> ([i32; V], [i32; V]) {
         let v = |k: usize| {
-            let [base, origin, gx, gy] = self.terms[k];
-            base.wrapping_add(fdot8_floor(origin + gx * x + gy * y))
+            let t = |term: usize| self.term(k, term);
+            t(BASE).wrapping_add(fdot8_floor(t(ORIGIN) + t(GX) * x + t(GY) * y))
         };
         (core::array::from_fn(v), self.step)
     }
@@ -332,12 +375,12 @@ mod tests {
                     kept += 1;
                     for k in 0..3 {
                         let [o, gx, gy] = terms(k);
-                        for (got, want) in [(p.terms[k][1], o), (p.terms[k][2], gx), (p.terms[k][3], gy)] {
+                        for (got, want) in [(p.term(k, ORIGIN), o), (p.term(k, GX), gx), (p.term(k, GY), gy)] {
                             let error = (f64::from(got) - want.floor()).abs();
                             worst = worst.max(error);
                             assert!(error <= 3.0, "triangle {t}, varying {k}: {got} for {want}");
                         }
-                        assert_eq!(p.step[k], fdot8_round(p.terms[k][2]));
+                        assert_eq!(p.step[k], fdot8_round(p.term(k, GX)));
                     }
                 }
                 None => {
