@@ -828,6 +828,10 @@ macro_rules! asm565 {
             "adds r0, r0, #2\n",
         )
     };
+    // A pixel the depth test rejected (`4:`): counted, then on to the step at `5:`.
+    (reject) => {
+        concat!("4:\n", "add r10, r10, #1\n", "b 5b\n")
+    };
     // The varyings `(t · (1 / s) + v0) as i32` (`raster::PixelRun`) from `s` in `s0`, the `t`s
     // in `s1`-`s3`, the `v0`s in `s4`-`s6` and 1.0 in `s11`, each operation rounded as the Rust
     // code's f32 operators; `s12`-`s15` free.
@@ -918,9 +922,7 @@ fn run565(colors: &mut [u16], depths: &mut [u16], values: [i32; 4], steps: [i32;
             "add sp, sp, #16",
             "pop {{r6, r7}}",
             "b 6f",
-            "4:",
-            "add r10, r10, #1",
-            "b 5b",
+            asm565!(reject),
             "6:",
             inout("r0") offset => _,
             in("r1") color_end,
@@ -990,9 +992,7 @@ fn run565_perspective(
             "pop {{r5, r6, r7}}",
             "vpop {{s0-s15}}",
             "b 6f",
-            "4:",
-            "add r10, r10, #1",
-            "b 5b",
+            asm565!(reject),
             "6:",
             inout("r0") offset => _,
             in("r1") color_end,
@@ -1087,10 +1087,36 @@ macro_rules! rows565 {
             "orr r4, r4, r5, lsl #22\n",
         )
     };
-    // The rejected pixels' count (`4:`, back to the step at `5:`), and the way out (`9:`).
+    // The rejected pixels' count (`4:`, see `asm565!`), and the way out (`9:`).
     (leave) => {
-        concat!("4:\n", "add r10, r10, #1\n", "b 5b\n", "9:\n", "add sp, sp, #16\n", "pop {{r6, r7}}\n",)
+        concat!(asm565!(reject), "9:\n", "add sp, sp, #16\n", "pop {{r6, r7}}\n")
     };
+}
+
+/// A row routine: the template lines given, with `walk` (a [`RowWalk565`]) in `r3`, every other
+/// register it may use declared clobbered, and the pixels the depth test rejected (`r10`) as
+/// its value. `unsafe`: an `asm!`.
+#[cfg(span_asm)]
+macro_rules! row_routine {
+    ($walk:expr, $($line:expr),+ $(,)?) => {{
+        let rejected: u32;
+        core::arch::asm!(
+            $($line),+,
+            in("r3") core::ptr::from_mut($walk),
+            out("r0") _,
+            out("r1") _,
+            out("r2") _,
+            out("r4") _,
+            out("r5") _,
+            out("r8") _,
+            out("r9") _,
+            out("r10") rejected,
+            out("r11") _,
+            out("r12") _,
+            out("lr") _,
+        );
+        rejected
+    }};
 }
 
 /// Draws the rows `walk` describes with affine varyings: on each, the columns between its
@@ -1102,7 +1128,6 @@ macro_rules! rows565 {
 /// [`Shader::run`] took about 140. The pixels the depth test rejected.
 #[cfg(span_asm)]
 fn affine_rows565(walk: &mut RowWalk565<Affine565>) -> u32 {
-    let rejected: u32;
     // SAFETY: on each of the rows `dy..dy_end`, the loop writes colour and depth entries
     // `lo..=hi` of the row's `color_row` and `depth_row`, with `0 <= lo` (the `bic`) and `hi <=
     // last` (the `movgt`), the rows `stride` bytes (one band row) apart: within the triangle's
@@ -1110,7 +1135,8 @@ fn affine_rows565(walk: &mut RowWalk565<Affine565>) -> u32 {
     // their distance) and the rows within it; it reads texels as `run565` does, reads and
     // writes `walk`'s fields, and restores `r6`, `r7` and `sp`.
     unsafe {
-        core::arch::asm!(
+        row_routine!(
+            walk,
             rows565!(enter),
             rows565!(row),
             // Varyings at the first pixel: base + ((origin + gx·lo + gy·dy) >> 8); v scaled.
@@ -1139,21 +1165,8 @@ fn affine_rows565(walk: &mut RowWalk565<Affine565>) -> u32 {
             "bne 2b",
             "b 1b",
             rows565!(leave),
-            in("r3") walk as *mut RowWalk565<Affine565>,
-            out("r0") _,
-            out("r1") _,
-            out("r2") _,
-            out("r4") _,
-            out("r5") _,
-            out("r8") _,
-            out("r9") _,
-            out("r10") rejected,
-            out("r11") _,
-            out("r12") _,
-            out("lr") _,
-        );
+        )
     }
-    rejected
 }
 
 /// [`affine_rows565`] with perspective at every pixel (`raster::PixelRows`): at each run's
@@ -1163,11 +1176,11 @@ fn affine_rows565(walk: &mut RowWalk565<Affine565>) -> u32 {
 /// call; it saves and restores `s0`-`s27` itself (see [`run565_perspective`]).
 #[cfg(all(span_asm, not(soft_float)))]
 fn pixel_rows565(walk: &mut RowWalk565<Pixel565>) -> u32 {
-    let rejected: u32;
     // SAFETY: as `affine_rows565`'s (the same rows, entries and texels); it also restores
     // `s0`-`s27`.
     unsafe {
-        core::arch::asm!(
+        row_routine!(
+            walk,
             "vpush {{s0-s27}}",
             rows565!(enter),
             "add r6, r3, #112",
@@ -1210,21 +1223,8 @@ fn pixel_rows565(walk: &mut RowWalk565<Pixel565>) -> u32 {
             "b 1b",
             rows565!(leave),
             "vpop {{s0-s27}}",
-            in("r3") walk as *mut RowWalk565<Pixel565>,
-            out("r0") _,
-            out("r1") _,
-            out("r2") _,
-            out("r4") _,
-            out("r5") _,
-            out("r8") _,
-            out("r9") _,
-            out("r10") rejected,
-            out("r11") _,
-            out("r12") _,
-            out("lr") _,
-        );
+        )
     }
-    rejected
 }
 
 #[cfg(test)]
