@@ -7,7 +7,7 @@
 # cameras, transforms, options, lights, bands, pixel and depth formats and scratch sizes),
 # buffers (every entry point given memory of the wrong size). Built with debug assertions
 # (overflow is a crash, and the span loop's debug_assert!s check the bounds its unsafe blocks
-# skip) and no sanitizer (`-s none`: outside src/pipeline/span.rs the crate is safe code),
+# skip) and no sanitizer (`-s none`: outside src/pipeline/span/ the crate is safe code),
 # which works on the stable toolchain. Seeds come from fuzz/seeds/TARGET when it exists; the corpus grows in
 # CORPUS_DIR (default: a temporary folder). A crash leaves its input in fuzz/artifacts/TARGET/
 # and exits non-zero: make it a regression test (tests/regressions.rs).

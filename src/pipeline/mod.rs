@@ -12,7 +12,7 @@
 //!    fan it, and hand each triangle to the fill or to `line.rs` (wireframe, points).
 //! 4. `raster.rs`: triangle set-up in integers, edge walks row by row, spans with depth and
 //!    varyings (exact, stepped or affine).
-//! 5. `fragment.rs`: the shader variant chosen once per triangle; `span.rs`: the span loop
+//! 5. `fragment.rs`: the shader variant chosen once per triangle; `span/`: the span loop
 //!    that runs it (depth test, texel, light, store), the one module allowed unchecked code.
 //!
 //! `sort.rs` orders triangles back to front for [`DrawOrder::BackToFront`] (painter's

@@ -7,7 +7,7 @@
 //!
 //! - **Overdraw.** Its depth cells ([`Stores`]) pass every depth test and count their `store`
 //!   calls. The renderer stores depth exactly once for each pixel it writes, together with the
-//!   colour (`Shader::span` in `src/pipeline/span.rs`, `put` in `src/pipeline/line.rs`), so every covered fragment of every
+//!   colour (`Shader::span` in `src/pipeline/span/mod.rs`, `put` in `src/pipeline/line.rs`), so every covered fragment of every
 //!   triangle is counted, and a count above 1 means two triangles (or one triangle twice)
 //!   wrote the pixel: [`CheckedTarget::assert_no_overdraw`]. Colour and depth must agree: a
 //!   pixel whose colour changed without a depth store (or the reverse) fails there too.
