@@ -5,7 +5,7 @@
 //! Baseline, RISC-V without the `m` extension), where the rasterizer walks edges without
 //! dividing (see `pipeline/raster/walk.rs`), and `cfg(span_asm)` on Armv7-M and Armv8-M
 //! Mainline (Thumb-2 with `usat` and `mla`), where the span loop draws the common variant in
-//! assembly (see `pipeline/span/armv7m.rs`), unless the feature `checked-spans` asks for the checked
+//! assembly (see `pipeline/span/`), unless the feature `checked-spans` asks for the checked
 //! Rust loop.
 
 fn main() {

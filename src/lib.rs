@@ -37,7 +37,7 @@
 //!   stepping's rounding of under 2^-16 per pixel (see `pipeline/raster.rs`, `Setup::allow_affine`).
 #![no_std]
 #![deny(missing_docs)]
-// Unchecked code lives in one module only, the span loop (`pipeline/span/`: `mod.rs`, and `armv7m.rs`, its assembly), which allows it.
+// Unchecked code lives in one module only, the span loop (`pipeline/span/`: `mod.rs`, and its assembly in `armv7m.rs` and `rows565.rs`), which allows it.
 #![deny(unsafe_code)]
 
 #[cfg(feature = "std")]

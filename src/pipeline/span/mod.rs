@@ -31,7 +31,10 @@ use core::slice::IterMut;
 use embedded_graphics_core::pixelcolor::Rgb565;
 
 #[cfg(span_asm)]
+#[macro_use]
 mod armv7m;
+#[cfg(span_asm)]
+mod rows565;
 
 /// Where a fragment's unlit colour comes from.
 pub(super) trait Base: Copy {
