@@ -100,6 +100,10 @@ macro_rules! asm565 {
             "adds r0, r0, #2\n",
         )
     };
+    // The pixels of a run with linear varyings, from `2:` to the last (the step at `5:`).
+    (linear_pixels) => {
+        concat!("2:\n", asm565!(depth_test), asm565!(shade), "5:\n", asm565!(step), "bne 2b\n",)
+    };
     // A pixel the depth test rejected (`4:`): counted, then on to the step at `5:`.
     (reject) => {
         concat!("4:\n", "add r10, r10, #1\n", "b 5b\n")
@@ -181,13 +185,7 @@ fn run565(colors: &mut [u16], depths: &mut [u16], values: [i32; 4], steps: [i32;
             "push {{r10, r11, r12, lr}}",
             "mov r10, #0",
             "cbz r0, 3f",
-            "2:",
-            asm565!(depth_test),
-            asm565!(shade),
-            // Step depth and varyings; next pixel.
-            "5:",
-            asm565!(step),
-            "bne 2b",
+            asm565!(linear_pixels),
             "3:",
             "add sp, sp, #16",
             "pop {{r6, r7}}",

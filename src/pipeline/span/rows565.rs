@@ -152,12 +152,7 @@ fn affine_rows565(walk: &mut RowWalk565<Affine565>) -> u32 {
             "lsl r8, r8, r11",
             "ldr r0, [r3, #108]",
             // The pixels, as `run565`'s loop.
-            "2:",
-            asm565!(depth_test),
-            asm565!(shade),
-            "5:",
-            asm565!(step),
-            "bne 2b",
+            asm565!(linear_pixels),
             "b 1b",
             rows565!(leave),
         )
