@@ -161,7 +161,7 @@ fn run_ends(colors: &mut [u16], depths: &mut [u16]) -> Option<(i32, *mut u16, *m
 /// `depths` (the same length, checked), the depth (2.30) and the varyings `u`, `v` (scaled by
 /// the width, see `Repeat565::scale_v`) and light (biased) at the first pixel in `values`, their
 /// steps per pixel in `steps`. The same pixels as `Shader::run`'s loop draws for it, in 24
-/// instructions a pixel written (14 a pixel rejected) instead of about 33: every register the
+/// instructions a pixel written (13 a pixel rejected) instead of about 33: every register the
 /// loop needs is its own (the constants and steps, each loaded with one `ldm` where they are
 /// used), which LLVM's allocation of the Rust loop does not achieve. The pixels the depth test
 /// rejected.
