@@ -190,7 +190,7 @@ impl<'a> Repeat565<'a> {
     /// The texels and the masks that [`Repeat565::texels_and_index`] takes an index's column and
     /// row bits with: `(texels, u_mask, v_mask)`, `u_mask | v_mask` being `texels.len() - 1`.
     #[inline(always)]
-    #[cfg_attr(not(span_asm), allow(dead_code, reason = "only the span loop's assembly asks"))]
+    #[cfg_attr(not(asm_runs), allow(dead_code, reason = "only the span loop's assembly asks"))]
     pub(crate) fn texels_and_masks(&self) -> (&'a [[u8; 2]], u32, u32) {
         (self.texels, self.u_mask, self.v_mask)
     }

@@ -41,7 +41,7 @@ pub(super) trait Lighting {
     /// Whether [`Lighting::lit_rgb565`] is `texture::modulate565_white_with` of varying
     /// `VertexLit::LIGHT` with `[SPREAD565, SPREAD565_HALF]` (as [`White`]'s is): the span
     /// loop's assembly draws that variant itself (see `span::Run565`).
-    #[cfg_attr(not(span_asm), allow(dead_code, reason = "only the span loop's assembly asks"))]
+    #[cfg_attr(not(asm_runs), allow(dead_code, reason = "only the span loop's assembly asks"))]
     const WHITE_RGB565: bool = false;
 }
 

@@ -80,16 +80,47 @@ pub(crate) fn draw_triangle<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
         Front::Done(rows) => rows,
         // The common case, straight to the fill from the vertex cache.
         Front::Cached(p, area, rows) => {
-            let flat = (ctx.opts.shading == Shading::Flat).then(|| flat_corner_lights(ctx, s, &s.arrays.triangle(t)));
-            let tri = Corners::Cached(&p, flat.as_ref());
-            match variant {
-                Some(variant) => fill_as(variant, band, ctx, tri, Some(area), surface, stats),
-                None => fill(band, ctx, tri, Some(area), surface, stats),
+            if ctx.opts.shading == Shading::Flat {
+                fill_flat_cached(band, ctx, (s, t), (&p, area), (surface, variant), stats);
+            } else {
+                fill_cached(band, ctx, Corners::Cached(&p, None), area, (surface, variant), stats);
             }
             rows
         }
         Front::Other => draw_other(band, ctx, s, t, surface, stats),
     }
+}
+
+/// Fills a triangle from the vertex cache: with the surface's variant when it decides one.
+#[inline(always)]
+fn fill_cached<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    tri: Corners<'_>,
+    area: i32,
+    (surface, variant): (&Surface<'_, '_>, Option<Variant<C, D, L>>),
+    stats: &mut Stats,
+) {
+    match variant {
+        Some(variant) => fill_as(variant, band, ctx, tri, Some(area), surface, stats),
+        None => fill(band, ctx, tri, Some(area), surface, stats),
+    }
+}
+
+/// [`fill_cached`] lit by triangle `t`'s face light. Out of line: the corners' flat lights,
+/// which Gouraud draws (the common case) never need, stay out of the triangle loops' frames
+/// (thumbv6m core stack, 8 bands: -40 bytes; Cortex-M4F: -7.6k instructions a frame).
+#[inline(never)]
+fn fill_flat_cached<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    (s, t): (&DrawSetup<'_>, u32),
+    (p, area): (&[&TransformedVertex; 3], i32),
+    surface: (&Surface<'_, '_>, Option<Variant<C, D, L>>),
+    stats: &mut Stats,
+) {
+    let flat = flat_corner_lights(ctx, s, &s.arrays.triangle(t));
+    fill_cached(band, ctx, Corners::Cached(p, Some(&flat)), area, surface, stats);
 }
 
 /// The rows of a triangle that an earlier band of this frame learnt (see

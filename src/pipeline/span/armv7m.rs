@@ -1,76 +1,11 @@
 //! The span loop of the common variant of small targets in Armv7-M assembly (`cfg(span_asm)`,
-//! see the parent module's text): its constants ([`Run565`]), the pixel loop's pieces
-//! (`asm565!`, also for `rows565`'s row routines) and single runs ([`run565`],
-//! [`run565_perspective`]), with the Rust loop of the parent module as their checked twin.
+//! see the parent module's text): the pixel loop's pieces (`asm565!`, also for `rows565`'s row
+//! routines) and single runs ([`run565`], [`run565_perspective`]) of the variant `run565.rs`
+//! describes, with the Rust loop of the parent module as their checked twin.
 
-use super::*;
-
-/// The constants of [`run565`], the span loop in assembly for the common variant of small
-/// targets: a [`Repeat565`] texture, white light modulating RGB565 (`Lighting::WHITE_RGB565`),
-/// an RGB565 frame ([`FrameColor::as_rgb565_values`]), plain `u16` depths, varyings stepping
-/// linearly, no dither. In the order the loop loads them (all five with one `ldm`).
-#[derive(Clone, Copy)]
-#[repr(C)]
-pub(super) struct Run565 {
-    /// See [`Repeat565::texels_and_masks`].
-    u_mask: u32,
-    v_mask: u32,
-    /// The texels' address: an index masked by `u_mask | v_mask` lies within them.
-    texels: *const [u8; 2],
-    /// `texture::SPREAD565` and `texture::SPREAD565_HALF`.
-    spread: u32,
-    half: u32,
-}
-
-impl Run565 {
-    /// The constants for a triangle drawn from `base`, when its variant is the one [`run565`]
-    /// draws (but for the depth buffer and varyings, which each run checks).
-    #[inline(always)]
-    fn of<C: FrameColor, B: Base, Lt: Lighting, const DITHER: bool>(base: &B) -> Option<Self> {
-        let probe: &mut [C] = &mut [];
-        if DITHER || Lt::HIGHLIGHT || !Lt::WHITE_RGB565 || C::as_rgb565_values(probe).is_none() {
-            return None;
-        }
-        let (texels, u_mask, v_mask) = base.as_repeat565()?.texels_and_masks();
-        debug_assert!((u_mask | v_mask) as usize == texels.len() - 1);
-        let (spread, half) = (crate::texture::SPREAD565, crate::texture::SPREAD565_HALF);
-        Some(Run565 { u_mask, v_mask, texels: texels.as_ptr(), spread, half })
-    }
-}
-
-impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shader<'_, '_, C, D, B, Lt, DITHER> {
-    /// The constants of [`run565`] for this triangle, when its variant is the one it draws.
-    #[inline(always)]
-    pub(super) fn run565(&self) -> Option<Run565> {
-        Run565::of::<C, B, Lt, DITHER>(self.base)
-    }
-
-    /// The run of `len` pixels from band entry `start` (`BandArea::run_start` gave it) by
-    /// [`run565`] when this triangle's variant is the one it draws: the pixels the depth test
-    /// rejected. `None`, drawing nothing, for any other variant.
-    #[inline(always)]
-    pub(super) fn run_in_assembly<const V: usize, R: RunVaryings<V>>(
-        &mut self,
-        start: usize,
-        len: usize,
-        (z, dz): (Depth30, i32),
-        vary: &R,
-    ) -> Option<u32> {
-        let constants = &self.run565()?;
-        // SAFETY: `run_start` gave `start` only with `start + len <= rows · width`.
-        let depths = unsafe { self.depth.run_u16(start, len) }?;
-        let colors = C::as_rgb565_values(colors_of(self.color, start, len)?)?;
-        #[cfg(not(soft_float))]
-        if let Some(f) = vary.perspective() {
-            return Some(run565_perspective(colors, depths, (z, dz), &f, constants));
-        }
-        let (v, dv) = vary.stepped()?;
-        let [u, tv, light] = [VertexLit::U, VertexLit::V, VertexLit::LIGHT].map(|k| v.get(k).copied());
-        let [du, dtv, dlight] = [VertexLit::U, VertexLit::V, VertexLit::LIGHT].map(|k| dv.get(k).copied());
-        let values = [z as i32, u?, tv?, light?];
-        Some(run565(colors, depths, values, [dz, du?, dtv?, dlight?], constants))
-    }
-}
+use super::run565::{run_ends, Run565};
+#[cfg(not(soft_float))]
+use crate::fixed::Depth30;
 
 /// The assembly both loops of [`Run565`]'s variant share, as template lines, in the registers
 /// both keep: `r0` the byte offset of the pixel from the runs' ends (negative, up to 0), `r1`
@@ -147,16 +82,6 @@ macro_rules! asm565 {
     };
 }
 
-/// The run's pixel count, checked against the depths' (`None` when they differ), and the ends
-/// of both: the byte offset of the first pixel from them (`-2n`) and the ends, which the loops
-/// of [`Run565`]'s variant index back from.
-#[inline(always)]
-fn run_ends(colors: &mut [u16], depths: &mut [u16]) -> Option<(i32, *mut u16, *mut u16)> {
-    let n = colors.len();
-    let ends = (colors.as_mut_ptr_range().end, depths.as_mut_ptr_range().end);
-    (depths.len() == n).then_some(((n as i32).wrapping_mul(-2), ends.0, ends.1))
-}
-
 /// Draws a run of the variant [`Run565`] describes with varyings stepping linearly: `colors` and
 /// `depths` (the same length, checked), the depth (2.30) and the varyings `u`, `v` (scaled by
 /// the width, see `Repeat565::scale_v`) and light (biased) at the first pixel in `values`, their
@@ -166,7 +91,7 @@ fn run_ends(colors: &mut [u16], depths: &mut [u16]) -> Option<(i32, *mut u16, *m
 /// used), which LLVM's allocation of the Rust loop does not achieve. The pixels the depth test
 /// rejected.
 #[inline(always)]
-fn run565(colors: &mut [u16], depths: &mut [u16], values: [i32; 4], steps: [i32; 4], k: &Run565) -> u32 {
+pub(super) fn run565(colors: &mut [u16], depths: &mut [u16], values: [i32; 4], steps: [i32; 4], k: &Run565) -> u32 {
     let Some((offset, color_end, depth_end)) = run_ends(colors, depths) else {
         return 0;
     };
@@ -218,7 +143,7 @@ fn run565(colors: &mut [u16], depths: &mut [u16], values: [i32; 4], steps: [i32;
 /// lacks.
 #[cfg(not(soft_float))]
 #[inline(always)]
-fn run565_perspective(
+pub(super) fn run565_perspective(
     colors: &mut [u16],
     depths: &mut [u16],
     (z, dz): (Depth30, i32),

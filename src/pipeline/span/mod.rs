@@ -13,11 +13,12 @@
 //! frames with both builds, and both must equal the recorded hashes bit for bit.
 //!
 //! On Armv7-M and Armv8-M Mainline (`cfg(span_asm)`, set by `build.rs`), the common variant of
-//! small targets (RGB565 texture, white vertex light, RGB565 frame, `u16` depth, see [`Run565`])
-//! runs its pixels in assembly ([`run565`]), the Rust loop being its checked twin: the same
-//! pixels bit for bit, which the firmware frames' comparison with the host's renders checks
-//! (`scripts/qemu-check.sh`, `tests/qemu_frame.rs`); `checked-spans` builds the Rust loop there
-//! too.
+//! small targets (RGB565 texture, white vertex light, RGB565 frame, `u16` depth, see
+//! `run565::Run565`) runs its pixels and rows in assembly (`armv7m.rs`, `rows565.rs`); on
+//! Armv6-M and Armv8-M Baseline (`cfg(span_asm_v6m)`) its runs (`armv6m.rs`). The Rust loop is
+//! their checked twin: the same pixels bit for bit, which the firmware frames' comparison with
+//! the host's renders checks (`scripts/qemu-check.sh`, `tests/qemu_frame.rs`); `checked-spans`
+//! builds the Rust loop there too.
 #![allow(unsafe_code)]
 
 use super::fragment::Lighting;
@@ -30,11 +31,15 @@ use crate::texture::{modulate, Repeat565, Sampler};
 use core::slice::IterMut;
 use embedded_graphics_core::pixelcolor::Rgb565;
 
+#[cfg(span_asm_v6m)]
+mod armv6m;
 #[cfg(span_asm)]
 #[macro_use]
 mod armv7m;
 #[cfg(span_asm)]
 mod rows565;
+#[cfg(asm_runs)]
+mod run565;
 
 /// Where a fragment's unlit colour comes from.
 pub(super) trait Base: Copy {
@@ -57,7 +62,7 @@ pub(super) trait Base: Copy {
     /// This base as a [`Repeat565`] texture, for the span loop's assembly (see [`Run565`]);
     /// `None` (the default) for any other base.
     #[inline(always)]
-    #[cfg_attr(not(span_asm), allow(dead_code, reason = "only the span loop's assembly asks"))]
+    #[cfg_attr(not(asm_runs), allow(dead_code, reason = "only the span loop's assembly asks"))]
     fn as_repeat565(&self) -> Option<&Repeat565<'_>> {
         None
     }
@@ -129,7 +134,7 @@ pub(super) trait RunVaryings<const V: usize> {
     /// The values at the current pixel and their steps per pixel, when they step linearly
     /// ([`Stepped`]); `None` (the default) otherwise.
     #[inline(always)]
-    #[cfg_attr(not(span_asm), allow(dead_code, reason = "only the span loop's assembly asks"))]
+    #[cfg_attr(not(asm_runs), allow(dead_code, reason = "only the span loop's assembly asks"))]
     fn stepped(&self) -> Option<(&[FDot16; V], &[FDot16; V])> {
         None
     }
@@ -284,6 +289,12 @@ pub(super) struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     pub(super) written: u32,
     pub(super) rejected: u32,
     pub(super) runs: u32,
+    /// The constants of the runs in assembly when this triangle's variant is theirs (see
+    /// [`Run565`](run565::Run565)): made once a triangle, not once a run, where runs are all
+    /// the assembly draws (Armv6-M -67k instructions a frame; on Armv7-M, whose row routines
+    /// make them once a triangle anyway, the field cost 29k).
+    #[cfg(span_asm_v6m)]
+    asm: Option<armv6m::Thumb565>,
 }
 
 impl<'b, 's, C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool>
@@ -293,7 +304,19 @@ impl<'b, 's, C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bo
     /// frame), from `base` lit by `lighting`, with nothing drawn yet.
     #[inline(always)]
     pub(super) fn new((area, color, depth): (BandArea, &'b mut [C], D), base: &'s B, lighting: &'s Lt) -> Self {
-        Shader { area, color, depth, base, v_shift: base.v_shift(), lighting, written: 0, rejected: 0, runs: 0 }
+        Shader {
+            area,
+            color,
+            depth,
+            base,
+            v_shift: base.v_shift(),
+            lighting,
+            written: 0,
+            rejected: 0,
+            runs: 0,
+            #[cfg(span_asm_v6m)]
+            asm: run565::Run565::of::<C, B, Lt, DITHER>(base).and_then(armv6m::Thumb565::of),
+        }
     }
 }
 
@@ -324,7 +347,7 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
             return;
         };
         vary.shift_v(self.v_shift);
-        #[cfg(span_asm)]
+        #[cfg(asm_runs)]
         if let Some(rejected) = self.run_in_assembly(start, len as usize, (z, dz), &vary) {
             self.written += len - rejected;
             self.rejected += rejected;

@@ -3,7 +3,7 @@
 //! their record ([`RowWalk565`]) and the Rust that hands them a triangle's rows
 //! (`Shader::rows_in_assembly`); the pixels as `armv7m`'s runs draw them (`asm565!`).
 
-use super::armv7m::Run565;
+use super::run565::Run565;
 use super::*;
 use crate::pipeline::raster::PlainRows;
 #[cfg(not(soft_float))]
