@@ -470,9 +470,9 @@ fn emit_texture(out: &mut Out, at: usize, t: &scene::TextureData, opts: &EmitOpt
         .flat_map(|row| row.chunks_exact(4))
         .flat_map(|c| encode_texel(format, [c[0], c[1], c[2], c[3]]).into_iter().take(n))
         .collect();
-    // At a multiple of 4 in the file: a file placed at an even address (as linkers place
-    // `include_bytes!` data in practice) has its texels there too, which the Armv6-M span loop's
-    // halfword loads need (it leaves texels at an odd address to the Rust loop).
+    // At a multiple of 4 in the file: a file placed at an address aligned to 4 (`include_s3d!`)
+    // has its texels there too, which the Armv6-M span loop's halfword loads need (it leaves
+    // texels at an odd address to the Rust loop).
     out.reserve(out.0.len().next_multiple_of(4) - out.0.len());
     let o = out.append(&texels);
     out.put_u32(at + texture::DATA.start, o);

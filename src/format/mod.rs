@@ -23,3 +23,26 @@ pub use layout::{LightKind, Wrap, MAGIC, NONE, NORMAL_ONE, QUANT_MAX, VERSION};
 pub use mesh::{Arrays, Mesh, SubMesh};
 pub use model::{Light, Material, Model, SceneCamera};
 pub use texel::{decode_texel, encode_texel, Texture, TextureFormat};
+
+/// `include_bytes!` of a `.s3d` file, placed at an address aligned to 4: a `&'static [u8]` for
+/// [`Model::parse`](crate::Model::parse).
+///
+/// Any alignment parses, but the converter stores texels at a multiple of 4 within the file,
+/// and the Armv6-M span loop (Cortex-M0/M0+, e.g. the RP2040) loads them as halfwords, which
+/// that architecture cannot do from an odd address: with texels there it draws with the
+/// slower Rust loop instead. `include_bytes!` alone promises alignment 1.
+///
+/// ```
+/// static SCENE: &[u8] = soft3d::include_s3d!(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/parse-raster-overflow.s3d"));
+/// assert_eq!(SCENE.as_ptr() as usize % 4, 0);
+/// assert_eq!(&SCENE[..4], soft3d::MAGIC);
+/// ```
+#[macro_export]
+macro_rules! include_s3d {
+    ($path:expr) => {{
+        #[repr(C, align(4))]
+        struct Aligned<T: ?Sized>(T);
+        static ALIGNED: &Aligned<[u8]> = &Aligned(*include_bytes!($path));
+        &ALIGNED.0
+    }};
+}

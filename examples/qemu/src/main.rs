@@ -45,7 +45,7 @@ use soft3d::{
 };
 
 /// The reference scene, converted at build time (see build.rs).
-static SUZANNE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
+static SUZANNE: &[u8] = soft3d::include_s3d!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
 
 const WIDTH: u16 = reference::WIDTH;
 const HEIGHT: u16 = reference::HEIGHT;

@@ -37,7 +37,7 @@ use soft3d::Rgb565Be;
 pub static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
 
 /// Suzanne, converted at build time (see build.rs) and read in place from flash.
-static SUZANNE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
+static SUZANNE: &[u8] = soft3d::include_s3d!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
 
 /// The Pico's crystal.
 const XTAL_FREQ_HZ: u32 = 12_000_000;

@@ -32,7 +32,7 @@ use stm32f4xx_hal::rcc::Config;
 use stm32f4xx_hal::spi::{Mode, Phase, Polarity, Spi};
 
 /// Suzanne, converted at build time (see build.rs) and read in place from flash.
-static SUZANNE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
+static SUZANNE: &[u8] = soft3d::include_s3d!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
 
 /// The Black Pill's crystal.
 const HSE_HZ: u32 = 25_000_000;

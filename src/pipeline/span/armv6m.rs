@@ -33,8 +33,8 @@ pub(super) struct Thumb565 {
 
 impl Thumb565 {
     /// The block for the constants `k`, when its texels are at an even address: Armv6-M faults
-    /// on a halfword load from an odd one (Armv7-M does not), and texels at one
-    /// (`include_bytes!` data has alignment 1) are drawn by the Rust loop here.
+    /// on a halfword load from an odd one (Armv7-M does not), and texels at one (`include_bytes!`
+    /// data has alignment 1; `include_s3d!` aligns it) are drawn by the Rust loop here.
     #[inline(always)]
     pub(super) fn of(k: Run565) -> Option<Self> {
         debug_assert!([k.spread, k.half] == [SPREAD565, SPREAD565_HALF]);
