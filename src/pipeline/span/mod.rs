@@ -289,10 +289,10 @@ pub(super) struct Shader<'b, 's, C, D, B, Lt, const DITHER: bool> {
     pub(super) written: u32,
     pub(super) rejected: u32,
     pub(super) runs: u32,
-    /// The constants of the runs in assembly when this triangle's variant is theirs (see
-    /// [`Run565`](run565::Run565)): made once a triangle, not once a run, where runs are all
-    /// the assembly draws (Armv6-M -67k instructions a frame; on Armv7-M, whose row routines
-    /// make them once a triangle anyway, the field cost 29k).
+    /// The block the runs in assembly load (`armv6m::Thumb565`) when this triangle's variant is
+    /// theirs: its constants made once a triangle, not once a run, where runs are all the
+    /// assembly draws (Armv6-M -67k instructions a frame; on Armv7-M, whose row routines make
+    /// theirs once a triangle anyway, such a field cost 29k).
     #[cfg(span_asm_v6m)]
     asm: Option<armv6m::Thumb565>,
 }
