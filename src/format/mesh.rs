@@ -238,12 +238,16 @@ enum Indices<'a> {
     U32(&'a [[u8; 4]]),
 }
 
-impl Arrays<'_> {
-    /// Whether the indices are 16-bit (the common width: a triangle loop can test it once).
+impl<'a> Arrays<'a> {
+    /// The 16-bit indices, when they are (the common width: a triangle loop can test it once,
+    /// see [`U16Triangles`]).
     #[inline]
     #[must_use]
-    pub(crate) fn has_u16_indices(&self) -> bool {
-        matches!(self.indices, Indices::U16(_))
+    pub(crate) fn u16_triangles(&self) -> Option<U16Triangles<'a>> {
+        match self.indices {
+            Indices::U16(x) => Some(U16Triangles(x)),
+            Indices::U32(_) => None,
+        }
     }
 
     /// See [`Mesh::position_stored`].
@@ -350,6 +354,20 @@ impl Arrays<'_> {
             Indices::U32(x) => corners(x, k).map(|c| c.map(u32::from_le_bytes)),
         };
         whole.unwrap_or_else(|| [self.index(k), self.index(k + 1), self.index(k + 2)])
+    }
+}
+
+/// A mesh's 16-bit indices (see [`Arrays::u16_triangles`]): a loop that tested the index
+/// width once reads a triangle's corners without testing it again.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct U16Triangles<'a>(&'a [[u8; 2]]);
+
+impl U16Triangles<'_> {
+    /// Triangle `t`'s three indices, when all are there ([`Arrays::triangle`] gives the
+    /// others).
+    #[inline(always)]
+    pub(crate) fn triangle(&self, t: u32) -> Option<[u32; 3]> {
+        corners(self.0, 3 * t).map(|c| c.map(|r| u16::from_le_bytes(r) as u32))
     }
 }
 

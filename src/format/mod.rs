@@ -20,6 +20,7 @@ mod texel;
 
 pub use error::{ParseError, Part};
 pub use layout::{LightKind, Wrap, MAGIC, NONE, NORMAL_ONE, QUANT_MAX, VERSION};
+pub(crate) use mesh::U16Triangles;
 pub use mesh::{Arrays, Mesh, SubMesh};
 pub use model::{Light, Material, Model, SceneCamera};
 pub use texel::{decode_texel, encode_texel, Texture, TextureFormat};

@@ -62,8 +62,8 @@ impl<'a, 'm> Surface<'a, 'm> {
     }
 }
 
-/// Draws triangle `t` and returns the rows it can touch (for [`Scratch`](super::Scratch)).
-/// `learnt`: its rows when an earlier band of this frame learnt them (see [`Learnt`]);
+/// Draws triangle `t`, of corners `idx`, and returns the rows it can touch (for
+/// [`Scratch`](super::Scratch)). `learnt`: its rows when an earlier band of this frame learnt them (see [`Learnt`]);
 /// `common`: [`common_cache`] (loop-invariant: a triangle loop finds it once); `variant`: the
 /// fill of every triangle of `surface`, when the surface decides it (see
 /// [`fragment::variant`](super::fragment::variant)).
@@ -72,11 +72,11 @@ pub(crate) fn draw_triangle<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     (s, common): (&DrawSetup<'c>, Option<&'c [TransformedVertex]>),
-    (t, learnt): (u32, Option<Learnt>),
+    (t, idx, learnt): (u32, [u32; 3], Option<Learnt>),
     (surface, variant): (&Surface<'_, '_>, Option<Variant<C, D, L>>),
     stats: &mut Stats,
 ) -> TriangleRows {
-    match front_end(ctx, (s, common), (t, learnt), surface, stats) {
+    match front_end(ctx, common, (idx, learnt), surface, stats) {
         Front::Done(rows) => rows,
         // The common case, straight to the fill from the vertex cache.
         Front::Cached(p, area, rows) => {
@@ -149,12 +149,11 @@ enum Front<'c> {
 #[inline(always)]
 fn front_end<'c, const L: usize>(
     ctx: &Context<'_, L>,
-    (s, common): (&DrawSetup<'c>, Option<&'c [TransformedVertex]>),
-    (t, learnt): (u32, Option<Learnt>),
+    common: Option<&'c [TransformedVertex]>,
+    (idx, learnt): ([u32; 3], Option<Learnt>),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> Front<'c> {
-    let idx = s.arrays.triangle(t);
     let Some(p) = common.and_then(|cache| unclipped_corners(cache, &idx)) else {
         return Front::Other;
     };

@@ -57,7 +57,14 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
         let sampler = ctx.sampler(model, &setup.mesh, &material);
         let surface = Surface::new(&material, sampler.as_ref(), ctx, setup);
         let common = common_cache(ctx, setup);
-        let _ = draw_triangle(band, ctx, (setup, common), (e.triangle, None), (&surface, None), &mut stats);
+        let _ = draw_triangle(
+            band,
+            ctx,
+            (setup, common),
+            (e.triangle, setup.arrays.triangle(e.triangle), None),
+            (&surface, None),
+            &mut stats,
+        );
     }
     Ok(stats)
 }
