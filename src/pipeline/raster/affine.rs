@@ -94,11 +94,10 @@ impl<const V: usize> AffinePlanes<V> {
     #[cfg_attr(not(soft_float), inline(never))]
     pub(super) fn in_integers(
         edges: &[Edge; 3],
-        area: u32,
+        inverse: &AreaReciprocal,
         (v0, d1, d2): (&[i32; V], &[i32; V], &[i32; V]),
         extent: (i32, i32),
     ) -> Option<Self> {
-        let inverse = AreaReciprocal::new(area);
         let (e1, e2) = (&edges[1], &edges[2]);
         // `v0`'s values stand in until `set` sets every varying's terms: a copy is a few stores,
         // where zeros are a `memset` call on Armv6-M.
@@ -187,8 +186,13 @@ impl<const V: usize> AffinePlanes<V> {
 /// saturates: only a needle triangle's absurd gradients take it out of range). Bit for bit the
 /// same on every target, and no soft-float.
 #[inline(always)]
-pub(super) fn integer_depth_plane(v: [(i32, i32, f32); 3], area: u32, (ox, oy): (i32, i32)) -> (i64, i64, i64) {
-    let inverse = AreaReciprocal::new(area);
+pub(super) fn integer_depth_plane(v: [(i32, i32, f32); 3], area: u32, origin: (i32, i32)) -> (i64, i64, i64) {
+    depth_plane_with(v, &AreaReciprocal::new(area), origin)
+}
+
+/// [`integer_depth_plane`] with the area's reciprocal `inverse` (see [`AreaReciprocal`]).
+#[inline(always)]
+fn depth_plane_with(v: [(i32, i32, f32); 3], inverse: &AreaReciprocal, (ox, oy): (i32, i32)) -> (i64, i64, i64) {
     // Depth within 0..=1 (NaN gives 0, and anything else is clamped there): so the
     // differences fit i32.
     let z = v.map(|(_, _, z)| depth30_truncated(z));
@@ -223,7 +227,8 @@ fn floor_sixteenth((z1, d1): (i64, i32), (z2, d2): (i64, i32)) -> i64 {
 /// area `area`: with `fpu`, in f32 (24.40 from the f32 values, truncated) where that is
 /// accurate, within about 2^-21 of the exact plane at every pixel of the box; in integers for
 /// the ill-conditioned rest (slivers, whose gradient's two products nearly cancel: off by up
-/// to twice itself in f32) and without `fpu`.
+/// to twice itself in f32) and without `fpu` (with the area's reciprocal `inverse` when
+/// given).
 ///
 /// Each product `p` is within `ε·|p|` (`ε = 2^-24`), the differences of depths too, and the
 /// numerator's difference within `ε` of both products' magnitudes: a gradient is within
@@ -234,13 +239,22 @@ fn floor_sixteenth((z1, d1): (i64, i32), (z2, d2): (i64, i32)) -> i64 {
 /// NaN and infinite depths fail it too. The gradients are then at most one depth unit per
 /// 1/16 pixel (the edge lengths are at least one unit): nothing saturates in 24.40.
 #[inline(always)]
-pub(super) fn depth_plane(v: [(i32, i32, f32); 3], area: i32, (ox, oy): (i32, i32), fpu: bool) -> (i64, i64, i64) {
-    if fpu {
-        if let Some((z_at_origin, gx, gy)) = f32_depth_plane(v, area, (ox, oy)) {
-            // Powers of two: exact, and no soft-float multiply without an FPU.
-            let to_fixed = |v: F32| crate::math::f32_to_i64(times_power_of_two(v.0, DEPTH40_ONE));
-            return (to_fixed(z_at_origin), to_fixed(gx), to_fixed(gy));
-        }
+pub(super) fn depth_plane(
+    v: [(i32, i32, f32); 3],
+    area: i32,
+    (ox, oy): (i32, i32),
+    (fpu, inverse): (bool, Option<&AreaReciprocal>),
+) -> (i64, i64, i64) {
+    if !fpu {
+        return match inverse {
+            Some(inverse) => depth_plane_with(v, inverse, (ox, oy)),
+            None => integer_depth_plane(v, area.unsigned_abs(), (ox, oy)),
+        };
+    }
+    if let Some((z_at_origin, gx, gy)) = f32_depth_plane(v, area, (ox, oy)) {
+        // Powers of two: exact, and no soft-float multiply without an FPU.
+        let to_fixed = |v: F32| crate::math::f32_to_i64(times_power_of_two(v.0, DEPTH40_ONE));
+        return (to_fixed(z_at_origin), to_fixed(gx), to_fixed(gy));
     }
     integer_depth_plane(v, area.unsigned_abs(), (ox, oy))
 }
@@ -265,10 +279,13 @@ pub(super) fn f32_depth_plane(v: [(i32, i32, f32); 3], area: i32, (ox, oy): (i32
     })
 }
 
-/// `1 / area` for [`AffinePlanes::in_integers`]: `area = m / 2^s` with `m` in `2^31..2^32`,
-/// and `r ≈ 2^62 / m` (within about 2^-30 relative, see `perspective::reciprocal`), so that
-/// `p · 2^k / area ≈ p · r / 2^(62 - s - k)`.
-struct AreaReciprocal {
+/// `1 / area` for [`AffinePlanes::in_integers`] and [`integer_depth_plane`]: `area = m / 2^s`
+/// with `m` in `2^31..2^32`, and `r ≈ 2^62 / m` (within about 2^-30 relative, see
+/// `perspective::reciprocal`), so that `p · 2^k / area ≈ p · r / 2^(62 - s - k)`. Made once a
+/// triangle (see `Setup::in_box`): a reciprocal is two Newton steps of 32 x 32-bit products,
+/// each four 16-bit ones without a widening multiply (thumbv6m).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct AreaReciprocal {
     r: u32,
     s: u32,
 }
@@ -276,7 +293,7 @@ struct AreaReciprocal {
 impl AreaReciprocal {
     /// The reciprocal of `area` (twice a triangle's area: positive, below 2^31).
     #[inline(always)]
-    fn new(area: u32) -> Self {
+    pub(super) fn new(area: u32) -> Self {
         debug_assert!(area > 0 && area < 1 << 31);
         let s = leading_zeros(area);
         // Capping `2^31` itself costs 2^-31 relative.
@@ -352,7 +369,8 @@ mod tests {
             }
             let Ok(s) = Setup::<3>::new(&tri, &window, false, false) else { continue };
             let extent = (s.x1 - s.x0, s.rows_below);
-            let planes = AffinePlanes::in_integers(&s.edges, s.area, (&s.v0, &s.d1, &s.d2), extent);
+            let planes =
+                AffinePlanes::in_integers(&s.edges, &AreaReciprocal::new(s.area), (&s.v0, &s.d1, &s.d2), extent);
             let (d1, d2) = (s.d1.map(F32::from), s.d2.map(F32::from));
             let float = AffinePlanes::new(&s.edges, F32::from(s.area), (&s.v0, &d1, &d2), extent);
             // The exact terms, and whether they are within the bound with a margin of 4 units.
