@@ -184,7 +184,8 @@ impl<const V: usize> AffinePlanes<V> {
 /// (`(dz_1·ey_2 - dz_2·ey_1) · 2^14 / area`, the numerators exact, within a unit and 2^-29
 /// relative), and the origin's value from vertex 0's along them (wrapping, as the f32 plane
 /// saturates: only a needle triangle's absurd gradients take it out of range). Bit for bit the
-/// same on every target, and no soft-float.
+/// same on every target, and no soft-float. Inlined (thumbv6m, 8 bands: 40k instructions a
+/// frame fewer than out of line, for 59 KB more flash; the Cortex-M4F 5k fewer, for 21 KB).
 #[inline(always)]
 pub(super) fn integer_depth_plane(v: [(i32, i32, f32); 3], area: u32, origin: (i32, i32)) -> (i64, i64, i64) {
     depth_plane_with(v, &AreaReciprocal::new(area), origin)
