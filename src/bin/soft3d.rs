@@ -10,7 +10,9 @@ use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
 use soft3d::testing::math::Vec3;
 use soft3d::DepthBuffer;
 use soft3d::TextureFormat;
-use soft3d::{Band, Camera, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Shading, Stats};
+use soft3d::{
+    Band, Camera, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Shading, Stats, MAX_DIMENSION,
+};
 
 #[derive(Parser)]
 #[command(name = "soft3d", version, about = "Convert, inspect and render 3D scenes for soft3d")]
@@ -47,8 +49,8 @@ struct ConvertArgs {
     /// Where uv (0,0) is in the image: bottom (Babylon.js) or top (the 2013 tutorial's Suzanne).
     #[arg(long, value_enum, default_value_t = Origin::Bottom)]
     uv_origin: Origin,
-    /// Downscale textures so that neither side exceeds N texels.
-    #[arg(long)]
+    /// Downscale textures so that neither side exceeds N texels (N at least 1).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     max_texture: Option<u32>,
     /// Resize textures to power-of-two sizes.
     #[arg(long)]
@@ -118,10 +120,10 @@ enum FilterArg {
 struct RenderArgs {
     /// The scene (.babylon is converted in memory).
     input: PathBuf,
-    /// Output PNG.
+    /// Output PNG (its name ends in .png).
     #[arg(short, long)]
     output: PathBuf,
-    /// Frame size WxH.
+    /// Frame size WxH, each in 1..=1536.
     #[arg(long, default_value = "640x480")]
     size: String,
     /// Camera position x,y,z (default: the scene's camera, or one framing the scene).
@@ -163,8 +165,9 @@ struct RenderArgs {
     /// Pixel format rendered into (the PNG shows it widened back to 8 bits).
     #[arg(long, value_enum, default_value_t = PixelFormat::Rgb888)]
     format: PixelFormat,
-    /// Blinn-Phong specular highlights (per vertex) with this exponent, e.g. 64.
-    #[arg(long)]
+    /// Blinn-Phong specular highlights (per vertex) with this exponent, e.g. 64 (a finite
+    /// number above 0).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_exponent)]
     specular: Option<f32>,
     /// Transform vertices in integers, as FPU-less microcontrollers do (within 1/16 pixel).
     #[arg(long)]
@@ -178,8 +181,8 @@ struct RenderArgs {
     /// Also write a turntable animation to this GIF.
     #[arg(long)]
     gif: Option<PathBuf>,
-    /// Frames of the GIF.
-    #[arg(long, default_value_t = 36)]
+    /// Frames of the GIF (at least 1).
+    #[arg(long, default_value_t = 36, value_parser = clap::value_parser!(u32).range(1..))]
     frames: u32,
     #[command(flatten)]
     conv: ConvertArgs,
@@ -345,8 +348,22 @@ fn parse_vec3(s: &str, what: &str) -> Result<Vec3> {
 
 fn parse_size(s: &str) -> Result<(u16, u16)> {
     let (w, h) = s.split_once('x').ok_or_else(|| format!("--size: expected WxH, got {s:?}"))?;
-    let p = |v: &str| v.parse::<u16>().map_err(|_| format!("--size: bad number {v:?}"));
+    let p = |v: &str| {
+        v.parse::<u16>()
+            .ok()
+            .filter(|n| (1..=MAX_DIMENSION).contains(n))
+            .ok_or_else(|| format!("--size: width and height must be whole numbers in 1..={MAX_DIMENSION}, got {s:?}"))
+    };
     Ok((p(w)?, p(h)?))
+}
+
+/// `--specular`'s exponent: a finite number above 0.
+fn parse_exponent(s: &str) -> Result<f32> {
+    s.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|e| e.is_finite() && *e > 0.0)
+        .ok_or_else(|| format!("expected a finite exponent above 0, e.g. 64, got {s:?}"))
 }
 
 fn parse_rgb(s: &str) -> Result<[u8; 3]> {
@@ -388,7 +405,11 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         lights = Lights::new(Vec3::ZERO);
         for l in &args.light {
             let light = if let Some(v) = l.strip_prefix("dir:") {
-                Lights::<8>::directional(parse_vec3(v, "--light dir")?, 1.0)
+                let dir = parse_vec3(v, "--light dir")?;
+                if dir == Vec3::ZERO {
+                    return Err(format!("--light: a direction must not be zero, got {l:?}"));
+                }
+                Lights::<8>::directional(dir, 1.0)
             } else if let Some(v) = l.strip_prefix("point:") {
                 Lights::<8>::point(parse_vec3(v, "--light point")?, 1.0)
             } else {
@@ -486,6 +507,11 @@ fn render_any(model: &Model<'_>, view: &View, spin: f32, args: &RenderArgs) -> R
 }
 
 fn cmd_render(args: &RenderArgs) -> Result<()> {
+    // Checked before any work: a picture written under another format's name would mislead.
+    let png = args.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if !png {
+        return Err(format!("-o: the picture is written as PNG: name it *.png, got {:?}", args.output.display()));
+    }
     let mut conv = args.conv.clone();
     // Keep 8-bit texels when rendering to RGB888 so the output compares exactly with others.
     if args.format == PixelFormat::Rgb888
@@ -528,7 +554,7 @@ fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &RenderArgs) -> 
     {
         let mut enc = image::codecs::gif::GifEncoder::new_with_speed(&mut out, 10);
         enc.set_repeat(image::codecs::gif::Repeat::Infinite).map_err(|e| e.to_string())?;
-        let frames = args.frames.max(1);
+        let frames = args.frames;
         for f in 0..frames {
             let spin = f as f32 / frames as f32 * std::f32::consts::TAU;
             let (rgb, _) = render_any(model, view, spin, args)?;
