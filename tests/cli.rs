@@ -135,3 +135,30 @@ fn a_bmp_texture_is_drawn() {
     let red = picture.unwrap().pixels().filter(|p| p.0 == [255, 0, 0]).count();
     assert!(red > 50, "{red} red pixels");
 }
+
+#[test]
+fn an_empty_scene_says_so() {
+    let dir = scene("empty");
+    std::fs::write(dir.join("empty.babylon"), "{}").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_soft3d"))
+        .arg("render")
+        .arg(dir.join("empty.babylon"))
+        .arg("-o")
+        .arg(dir.join("out.png"))
+        .output()
+        .unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_refused(&out, &["empty.babylon", "no triangles to draw"]);
+}
+
+#[test]
+fn info_tells_the_file_from_the_converted_model() {
+    let dir = scene("info");
+    let out = Command::new(env!("CARGO_BIN_EXE_soft3d")).arg("info").arg(dir.join("tri.babylon")).output().unwrap();
+    let file = std::fs::metadata(dir.join("tri.babylon")).unwrap().len();
+    std::fs::remove_dir_all(&dir).unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let first = text.lines().next().unwrap_or_default();
+    assert!(first.contains(&format!(": {file} bytes, ")) && first.ends_with(" bytes converted"), "{first}");
+}

@@ -261,7 +261,13 @@ fn cmd_convert(input: &Path, output: &Path, conv: &ConvertArgs) -> Result<()> {
 fn cmd_info(input: &Path, conv: &ConvertArgs) -> Result<()> {
     let bytes = load_scene(input, conv)?;
     let model = Model::parse(&bytes).map_err(|e| format!("{}: {e}", input.display()))?;
-    println!("{}: {} bytes", input.display(), bytes.len());
+    // The file's size, and the converted model's where it was converted here.
+    let file = std::fs::metadata(input).map(|m| m.len()).map_err(|e| format!("{}: {e}", input.display()))?;
+    if file == bytes.len() as u64 && input.extension().is_some_and(|e| e == "s3d") {
+        println!("{}: {file} bytes", input.display());
+    } else {
+        println!("{}: {file} bytes, {} bytes converted", input.display(), bytes.len());
+    }
     let (mut tris, mut verts) = (0u64, 0u64);
     for (i, m) in model.meshes().enumerate() {
         let (c, r) = m.bounding_sphere();
@@ -387,6 +393,9 @@ struct View {
 
 fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     let (width, height) = parse_size(&args.size)?;
+    if model.draw_counts().0 == 0 {
+        return Err(format!("{}: the scene has no triangles to draw", args.input.display()));
+    }
     let aspect = width as f32 / height.max(1) as f32;
     let scene_cam = model.camera();
     let fov = args.fov.or(scene_cam.map(|c| c.fov)).unwrap_or(0.8);
