@@ -3,7 +3,8 @@
 //! test runs the binary on a one-triangle scene written for it and checks the exit status and
 //! the message.
 
-use std::path::PathBuf;
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// A one-triangle `.babylon` scene in a fresh folder of the system's temporary one, named
@@ -17,17 +18,16 @@ fn scene(test: &str) -> PathBuf {
     dir
 }
 
+/// `soft3d render SCENE -o OUTPUT ARGS`.
+fn render_to(scene: &Path, output: &Path, args: &[&str]) -> Output {
+    let render = [OsStr::new("render"), scene.as_os_str(), OsStr::new("-o"), output.as_os_str()];
+    Command::new(env!("CARGO_BIN_EXE_soft3d")).args(render).args(args).output().unwrap()
+}
+
 /// `soft3d render tri.babylon -o out.png ARGS` in `scene(test)`'s folder.
 fn render(test: &str, args: &[&str]) -> Output {
     let dir = scene(test);
-    let out = Command::new(env!("CARGO_BIN_EXE_soft3d"))
-        .arg("render")
-        .arg(dir.join("tri.babylon"))
-        .arg("-o")
-        .arg(dir.join("out.png"))
-        .args(args)
-        .output()
-        .unwrap();
+    let out = render_to(&dir.join("tri.babylon"), &dir.join("out.png"), args);
     std::fs::remove_dir_all(&dir).unwrap();
     out
 }
@@ -84,13 +84,7 @@ fn a_light_needs_a_direction() {
 #[test]
 fn the_picture_is_named_as_what_it_is() {
     let dir = scene("output");
-    let out = Command::new(env!("CARGO_BIN_EXE_soft3d"))
-        .arg("render")
-        .arg(dir.join("tri.babylon"))
-        .arg("-o")
-        .arg(dir.join("out.jpg"))
-        .output()
-        .unwrap();
+    let out = render_to(&dir.join("tri.babylon"), &dir.join("out.jpg"), &[]);
     let written = dir.join("out.jpg").exists();
     std::fs::remove_dir_all(&dir).unwrap();
     assert_refused(&out, &["-o", "PNG", "out.jpg"]);
@@ -121,14 +115,7 @@ fn a_bmp_texture_is_drawn() {
         "meshes":[{"name":"t","id":"t","materialId":"m","positions":[-1,-1,0,1,-1,0,-1,1,0],
         "indices":[0,1,2],"normals":[0,0,-1,0,0,-1,0,0,-1],"uvs":[0,0,1,0,0,1]}]}"#;
     std::fs::write(dir.join("tex.babylon"), json).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_soft3d"))
-        .arg("render")
-        .arg(dir.join("tex.babylon"))
-        .arg("-o")
-        .arg(dir.join("out.png"))
-        .args(["--size", "64x48", "--shading", "unlit"])
-        .output()
-        .unwrap();
+    let out = render_to(&dir.join("tex.babylon"), &dir.join("out.png"), &["--size", "64x48", "--shading", "unlit"]);
     let picture = image::open(dir.join("out.png")).map(|i| i.to_rgb8());
     std::fs::remove_dir_all(&dir).unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -140,13 +127,7 @@ fn a_bmp_texture_is_drawn() {
 fn an_empty_scene_says_so() {
     let dir = scene("empty");
     std::fs::write(dir.join("empty.babylon"), "{}").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_soft3d"))
-        .arg("render")
-        .arg(dir.join("empty.babylon"))
-        .arg("-o")
-        .arg(dir.join("out.png"))
-        .output()
-        .unwrap();
+    let out = render_to(&dir.join("empty.babylon"), &dir.join("out.png"), &[]);
     std::fs::remove_dir_all(&dir).unwrap();
     assert_refused(&out, &["empty.babylon", "no triangles to draw"]);
 }
