@@ -63,9 +63,9 @@ impl<'a, 'm> Surface<'a, 'm> {
 }
 
 /// Draws triangle `t`, of corners `idx`, and returns the rows it can touch (for
-/// [`Scratch`](super::Scratch)). `learnt`: its rows when an earlier band of this frame learnt them (see [`Learnt`]);
-/// `common`: [`common_cache`] (loop-invariant: a triangle loop finds it once); `variant`: the
-/// fill of every triangle of `surface`, when the surface decides it (see
+/// [`Scratch`](super::Scratch)). `learnt`: its rows when an earlier band of this frame learnt
+/// them (see [`Learnt`]); `common`: [`common_cache`] (loop-invariant: a triangle loop finds it
+/// once); `variant`: the fill of every triangle of `surface`, when the surface decides it (see
 /// [`fragment::variant`](super::fragment::variant)).
 #[inline(always)]
 pub(crate) fn draw_triangle<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
