@@ -124,7 +124,16 @@ for config in "${configs[@]}"; do
             m4_json="$json1"
         fi
         stack="$(json_field stack_bytes "$json1")"
-        core_stack="$(json_field core_stack_bytes "$json1")"
+        if [ "$qemu" != qemu-system-riscv32 ]; then
+            # The core stack from a build that keeps the draw out of line (see examples/qemu's
+            # `stack-probe`): in the counted one, LTO inlines its top levels into the firmware.
+            echo "building $target, $bands band(s), stack probe" >&2
+            (cd "$fw" && cargo build --release --quiet --target "$target" --features "${band_feature:+$band_feature,}stack-probe")
+            cp "$fw/target/$target/release/soft3d-qemu" "$work/$target-$bands-probe.elf"
+            run "$work/$target-$bands-probe.elf" "$machine" "$cpu" "$qemu"
+            core_stack="$(json_field core_stack_bytes "$JSON")"
+            lines+=("$target $bands band(s) stack probe: $JSON")
+        fi
         pf=$((count[2] - count[1]))
         per_frame[$bands]="$pf"
         per_px="$(awk -v a="$pf" -v b="$covered" 'BEGIN { printf "%.1f", (b > 0 ? a / b : 0) }')"
@@ -153,7 +162,7 @@ echo "the same frame, byte for byte); the M4F build f32 positions and vertices."
 echo "Instruction counts from QEMU (-icount shift=0, qemu-insncount plugin); per frame = 2 frames - 1 frame."
 echo "Flash = .vector_table + .text + .rodata + .data (includes the 32 KiB 128x128 RGB565 texture);"
 echo "static RAM = .data + .bss (includes the colour and depth band buffers); stack = high-water mark of the"
-echo "whole firmware (semihosting included); core stack = what the draw calls alone use (see examples/qemu)."
+echo "whole firmware (semihosting included); core stack = what the draw calls alone use, all of the renderer's frames (the stack-probe build, see examples/qemu)."
 echo "riscv32imc (QEMU virt, -bios none): flash = .text + .init.rust + .rodata + .eh_frame + .data; its stack is not"
 echo "measured (n/a)."
 echo

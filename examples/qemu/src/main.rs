@@ -22,8 +22,11 @@
 //! no longer holds the pattern gives the high-water mark of the whole firmware. For the core
 //! alone, in the first frame, the free stack below the caller's frame is painted again right
 //! before each band's draw call and scanned right after it: the lowest touched word, measured
-//! from the stack pointer at the call, gives the renderer's own use. Cortex-M only: on riscv32
-//! (riscv-rt does not paint the stack) both stack figures are reported as 0.
+//! from the stack pointer at the call, gives the renderer's own use: all of it with the
+//! `stack-probe` feature, which keeps the draw out of line (without it, LTO inlines the draw's
+//! top levels, its context and the mesh's set-up, into `run`'s frame, above that stack pointer,
+//! and the figure leaves them out). Cortex-M only: on riscv32 (riscv-rt does not paint the
+//! stack) both stack figures are reported as 0.
 #![no_std]
 #![no_main]
 
@@ -101,8 +104,9 @@ struct Report {
     covered: u32,
     /// Stack high-water mark of the whole run, in bytes below `_stack_start` (0 on riscv32).
     stack_bytes: u32,
-    /// Stack used by the renderer's calls alone (first frame), in bytes below `main`'s frame
-    /// (0 on riscv32).
+    /// Stack used by the renderer's calls alone (first frame), in bytes below `run`'s frame: all
+    /// of the renderer's with `stack-probe`, else without what LTO inlined into `run` (0 on
+    /// riscv32).
     core_stack_bytes: u32,
 }
 
@@ -176,7 +180,7 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
                 band.clear(Rgb565::BLACK);
                 // Instrumentation in the first frame only: it cancels out of the per-frame count.
                 let painted = (frame == 1).then(|| repaint_free_stack(&mut firmware_stack));
-                stats += renderer.draw(&mut band, &model, transform, &mut cache).map_err(|_| "draw refused")?;
+                stats += draw(&renderer, &mut band, (&model, transform), &mut cache)?;
                 if let Some((sp, from)) = painted {
                     core_stack = core_stack.max(sp.saturating_sub(lowest_touched_stack(from)) as u32);
                 }
@@ -211,6 +215,20 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
 }
 
 /// Opens the frame file on the host (truncating it).
+/// [`Renderer::draw`], inlined into the frame loop (as LTO does in a firmware of one call
+/// site) or, with the `stack-probe` feature, out of line: then every frame of the renderer lies
+/// below the one `run` measures the core stack from (see `core_stack_bytes`).
+#[cfg_attr(feature = "stack-probe", inline(never))]
+#[cfg_attr(not(feature = "stack-probe"), inline(always))]
+fn draw(
+    renderer: &Renderer<'_, 1>,
+    band: &mut Band<'_, Rgb565, &mut [u16]>,
+    (model, transform): (&Model<'_>, Mat4),
+    scratch: &mut Scratch<'_>,
+) -> Result<Stats, &'static str> {
+    renderer.draw(band, model, transform, scratch).map_err(|_| "draw refused")
+}
+
 fn create_frame_file() -> Result<File, &'static str> {
     File::create(FRAME_PATH)
         .map_err(|_| "cannot create out/qemu-frame.rgb565 (does out/ exist in QEMU's working directory?)")
