@@ -143,3 +143,82 @@ fn info_tells_the_file_from_the_converted_model() {
     let first = text.lines().next().unwrap_or_default();
     assert!(first.contains(&format!(": {file} bytes, ")) && first.ends_with(" bytes converted"), "{first}");
 }
+
+/// Renders the scene `json` (written as `test.babylon` in a fresh folder) with `args` at 64x48:
+/// the run, and the picture when one was written.
+fn render_scene(test: &str, json: &str, args: &[&str]) -> (Output, Option<image::RgbImage>) {
+    let dir = scene(test);
+    std::fs::write(dir.join("test.babylon"), json).unwrap();
+    let mut all = vec!["--size", "64x48", "--shading", "unlit", "--background", "0,0,0"];
+    all.extend_from_slice(args);
+    let out = render_to(&dir.join("test.babylon"), &dir.join("out.png"), &all);
+    let picture = image::open(dir.join("out.png")).ok().map(|i| i.to_rgb8());
+    std::fs::remove_dir_all(&dir).unwrap();
+    (out, picture)
+}
+
+/// Pixels of `picture` (which must exist) that are not the black background.
+fn drawn_pixels(out: &Output, picture: Option<&image::RgbImage>) -> usize {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    picture.expect("a picture").pixels().filter(|p| p.0 != [0, 0, 0]).count()
+}
+
+/// A white square of side 20 at the origin, facing -z, and `camera` (JSON) as the scene's.
+fn square_with(camera: &str) -> String {
+    format!(
+        r#"{{"meshes":[{{"name":"s","id":"s","positions":[-10,-10,0,10,-10,0,10,10,0,-10,10,0],
+        "indices":[0,1,2,0,2,3],"normals":[0,0,-1,0,0,-1,0,0,-1,0,0,-1]}}],
+        "cameras":[{camera}],"activeCameraID":"c"}}"#
+    )
+}
+
+#[test]
+fn an_infinite_far_plane_reaches_the_whole_scene() {
+    let camera = r#"{"id":"c","name":"c","position":[0,0,-40],"target":[0,0,0],"fov":0.8,"minZ":1,"maxZ":0}"#;
+    let (out, picture) = render_scene("maxz", &square_with(camera), &[]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("maxZ 0 (an infinite far plane)"));
+    assert!(drawn_pixels(&out, picture.as_ref()) > 300);
+}
+
+#[test]
+fn a_camera_looking_at_its_own_position_is_replaced() {
+    let camera = r#"{"id":"c","name":"c","position":[0,0,-40],"target":[0,0,-40]}"#;
+    let (out, picture) = render_scene("degenerate", &square_with(camera), &[]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("its position is its target"));
+    assert!(drawn_pixels(&out, picture.as_ref()) > 300);
+}
+
+#[test]
+fn a_moved_eye_fits_the_near_and_far_planes() {
+    // The scene's far plane (at 50) would cut the square off from an eye 80 away.
+    let camera = r#"{"id":"c","name":"c","position":[0,0,-40],"target":[0,0,0],"minZ":1,"maxZ":50}"#;
+    let (out, picture) = render_scene("eye", &square_with(camera), &["--eye", "0,0,-80"]);
+    assert!(drawn_pixels(&out, picture.as_ref()) > 100);
+    // Unless the user says where they are.
+    let (out, picture) = render_scene("eye-far", &square_with(camera), &["--eye", "0,0,-80", "--far", "50"]);
+    assert_eq!(drawn_pixels(&out, picture.as_ref()), 0);
+}
+
+#[test]
+fn without_a_depth_buffer_the_nearest_triangle_is_drawn_last() {
+    // The red triangle in front comes first in the file: drawn as stored, the blue one behind
+    // would cover it.
+    let tri = |z: i32| format!("-10,-10,{z},10,-10,{z},0,10,{z}");
+    let json = format!(
+        r#"{{"materials":[{{"name":"r","id":"r","diffuse":[1,0,0]}},{{"name":"b","id":"b","diffuse":[0,0,1]}}],
+        "meshes":[{{"name":"near","id":"near","materialId":"r","positions":[{}],"indices":[0,1,2],
+        "normals":[0,0,-1,0,0,-1,0,0,-1]}},
+        {{"name":"far","id":"far","materialId":"b","positions":[{}],"indices":[0,1,2],
+        "normals":[0,0,-1,0,0,-1,0,0,-1]}}],
+        "cameras":[{{"id":"c","name":"c","position":[0,0,-40],"target":[0,0,0]}}],"activeCameraID":"c"}}"#,
+        tri(0),
+        tri(5)
+    );
+    for depth in ["none", "u16"] {
+        let (out, picture) = render_scene(&format!("depth-{depth}"), &json, &["--depth", depth]);
+        assert!(drawn_pixels(&out, picture.as_ref()) > 100);
+        let centre = picture.unwrap().get_pixel(32, 24).0;
+        assert_eq!(centre, [255, 0, 0], "--depth {depth}: the centre is {centre:?}");
+    }
+}

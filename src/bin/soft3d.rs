@@ -11,7 +11,8 @@ use soft3d::testing::math::Vec3;
 use soft3d::DepthBuffer;
 use soft3d::TextureFormat;
 use soft3d::{
-    Band, Camera, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Shading, Stats, MAX_DIMENSION,
+    Band, Camera, DrawOrder, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Scratch, Shading,
+    SortEntry, Stats, MAX_DIMENSION,
 };
 
 #[derive(Parser)]
@@ -144,7 +145,7 @@ struct RenderArgs {
     /// What to draw.
     #[arg(long, value_enum, default_value_t = ModeArg::Solid)]
     mode: ModeArg,
-    /// Depth buffer.
+    /// Depth buffer (none: triangles drawn back to front, the painter's algorithm).
     #[arg(long, value_enum, default_value_t = DepthKind::U16)]
     depth: DepthKind,
     /// Render in N horizontal bands.
@@ -391,6 +392,16 @@ struct View {
     bands: u16,
 }
 
+/// Near and far planes for an eye at `eye` that take in the whole of `model` (its bounding
+/// sphere, with 1% to spare): what `--eye` and `--target` get unless `--near` and `--far` are
+/// given.
+fn fitted_planes(eye: Vec3, model: &Model<'_>) -> (f32, f32) {
+    let (centre, radius) = model.bounds().unwrap_or((Vec3::ZERO, 1.0));
+    let (d, r) = (eye.distance(centre), radius * 1.01);
+    let far = (d + r).max(1e-3);
+    ((d - r).max(far * 1e-3), far)
+}
+
 fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     let (width, height) = parse_size(&args.size)?;
     if model.draw_counts().0 == 0 {
@@ -406,8 +417,15 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     };
     let eye = args.eye.as_deref().map(|s| parse_vec3(s, "--eye")).transpose()?.unwrap_or(default_eye);
     let target = args.target.as_deref().map(|s| parse_vec3(s, "--target")).transpose()?.unwrap_or(default_target);
-    let near = args.near.or(scene_cam.map(|c| c.near)).unwrap_or(framing.near);
-    let far = args.far.or(scene_cam.map(|c| c.far)).unwrap_or(framing.far);
+    // A camera the user moved sees the model from elsewhere: its planes are fitted to it.
+    let (default_near, default_far) = match (&scene_cam, args.eye.is_some() || args.target.is_some()) {
+        (_, true) => fitted_planes(eye, model),
+        (Some(c), false) => (c.near, c.far),
+        (None, false) => (framing.near, framing.far),
+    };
+    let far = args.far.unwrap_or(default_far);
+    // A near plane beyond the user's far plane would leave nothing: theirs decides.
+    let near = args.near.unwrap_or(if default_near < far { default_near } else { far * 1e-3 });
     let camera = Camera::perspective(eye, target, fov, aspect, near, far).map_err(|e| e.to_string())?;
     let mut lights = Lights::<8>::from_model(model);
     if !args.light.is_empty() {
@@ -452,7 +470,8 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         textures: true,
         dither: args.dither,
         fixed_vertices: args.fixed_vertices,
-        order: soft3d::DrawOrder::AsStored,
+        // Without a depth buffer the nearest triangle must be drawn last.
+        order: if args.depth == DepthKind::None { DrawOrder::BackToFront } else { DrawOrder::AsStored },
         wire_color: matches!(args.mode, ModeArg::SolidWire).then_some([255, 255, 0]),
     };
     if args.bands == 0 || args.bands > height {
@@ -474,6 +493,10 @@ fn render_frame<C: FrameColor + Default>(
     let mut zf = vec![0f32; w * h];
     let rows_per_band = h.div_ceil(view.bands as usize);
     let transform = soft3d::testing::math::Mat4::from_rotation_y(spin);
+    // The back-to-front list, one entry a triangle, when the order needs it.
+    let sorted = view.opts.order == DrawOrder::BackToFront;
+    let mut sort = vec![SortEntry::default(); if sorted { model.draw_counts().0 } else { 0 }];
+    let mut scratch = Scratch::none().with_sort(&mut sort);
     let mut stats = Stats::default();
     let bg = C::from_rgb888(view.background);
     for (k, band_color) in color.chunks_mut(rows_per_band * w).enumerate() {
@@ -481,9 +504,13 @@ fn render_frame<C: FrameColor + Default>(
         let n = band_color.len();
         let range = k * rows_per_band * w..k * rows_per_band * w + n;
         let s = match depth {
-            DepthKind::U16 => draw_band(band_color, &mut z16[range], view, first_row, model, transform, bg)?,
-            DepthKind::F32 => draw_band(band_color, &mut zf[range], view, first_row, model, transform, bg)?,
-            DepthKind::None => draw_band(band_color, NoDepth, view, first_row, model, transform, bg)?,
+            DepthKind::U16 => {
+                draw_band((band_color, &mut z16[range]), view, first_row, (model, transform), bg, &mut scratch)?
+            }
+            DepthKind::F32 => {
+                draw_band((band_color, &mut zf[range]), view, first_row, (model, transform), bg, &mut scratch)?
+            }
+            DepthKind::None => draw_band((band_color, NoDepth), view, first_row, (model, transform), bg, &mut scratch)?,
         };
         stats += s;
     }
@@ -491,19 +518,18 @@ fn render_frame<C: FrameColor + Default>(
 }
 
 fn draw_band<C: FrameColor, D: DepthBuffer>(
-    color: &mut [C],
-    depth: D,
+    (color, depth): (&mut [C], D),
     view: &View,
     first_row: u16,
-    model: &Model<'_>,
-    transform: soft3d::testing::math::Mat4,
+    (model, transform): (&Model<'_>, soft3d::testing::math::Mat4),
     bg: C,
+    scratch: &mut Scratch<'_>,
 ) -> Result<Stats> {
     let mut band = Band::new(color, depth, view.width, view.height, first_row).map_err(|e| e.to_string())?;
     band.clear(bg);
-    Ok(soft3d::Renderer::new(&view.camera, &view.lights, view.opts)
-        .draw(&mut band, model, transform, &mut soft3d::Scratch::none())
-        .unwrap())
+    soft3d::Renderer::new(&view.camera, &view.lights, view.opts)
+        .draw(&mut band, model, transform, scratch)
+        .map_err(|e| format!("draw: {e}"))
 }
 
 fn render_any(model: &Model<'_>, view: &View, spin: f32, args: &RenderArgs) -> Result<(Vec<[u8; 3]>, Stats)> {

@@ -52,13 +52,41 @@ impl Reader<'_> {
         };
         let parent = self.parent(c, &cx.what)?;
         let world = self.parent_world(parent)?;
-        self.scene.camera = Some(CameraData {
-            position: transform(&world, position, 1.),
-            target: transform(&world, target, 1.),
-            fov: scalar(c, "fov", 0.8).map_err(e)?,
-            near: scalar(c, "minZ", 1.).map_err(e)?,
-            far: scalar(c, "maxZ", 10000.).map_err(e)?,
-        });
+        let (position, target) = (transform(&world, position, 1.), transform(&world, target, 1.));
+        if position == target {
+            // Nowhere to look: Babylon.js would draw nothing either.
+            self.warn(format!(
+                "{}: its position is its target, so it was ignored (the fitted camera is used)",
+                cx.what
+            ));
+            return Ok(());
+        }
+        let near = scalar(c, "minZ", 1.).map_err(e)?;
+        let mut far = scalar(c, "maxZ", 10000.).map_err(e)?;
+        if far == 0.0 {
+            // Babylon.js's infinite far plane: ours reaches just past the farthest vertex.
+            far = self.scene_reach(position).max(near * 2.0);
+            self.warn(format!(
+                "{}: maxZ 0 (an infinite far plane) drawn with the far plane at {far}, past the whole scene",
+                cx.what
+            ));
+        }
+        let fov = scalar(c, "fov", 0.8).map_err(e)?;
+        self.scene.camera = Some(CameraData { position, target, fov, near, far });
         Ok(())
+    }
+
+    /// The distance from `eye` to the scene's farthest vertex (meshes and instances in world
+    /// space), with 1% to spare.
+    fn scene_reach(&self, eye: [f32; 3]) -> f32 {
+        let placed = self.scene.meshes.iter().map(|m| (m, &m.world));
+        let instances =
+            self.scene.instances.iter().filter_map(|i| Some((self.scene.meshes.get(usize::from(i.mesh))?, &i.world)));
+        let farthest = placed
+            .chain(instances)
+            .flat_map(|(m, world)| m.positions.iter().map(move |&p| transform(world, p, 1.)))
+            .map(|p| (0..3).map(|k| (p[k] - eye[k]) * (p[k] - eye[k])).sum::<f32>())
+            .fold(0.0f32, f32::max);
+        libm::sqrtf(farthest) * 1.01
     }
 }
