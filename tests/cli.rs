@@ -149,7 +149,10 @@ fn info_tells_the_file_from_the_converted_model() {
 fn render_scene(test: &str, json: &str, args: &[&str]) -> (Output, Option<image::RgbImage>) {
     let dir = scene(test);
     std::fs::write(dir.join("test.babylon"), json).unwrap();
-    let mut all = vec!["--size", "64x48", "--shading", "unlit", "--background", "0,0,0"];
+    let mut all = vec!["--size", "64x48", "--background", "0,0,0"];
+    if !args.contains(&"--shading") {
+        all.extend(["--shading", "unlit"]);
+    }
     all.extend_from_slice(args);
     let out = render_to(&dir.join("test.babylon"), &dir.join("out.png"), &all);
     let picture = image::open(dir.join("out.png")).ok().map(|i| i.to_rgb8());
@@ -221,4 +224,51 @@ fn without_a_depth_buffer_the_nearest_triangle_is_drawn_last() {
         let centre = picture.unwrap().get_pixel(32, 24).0;
         assert_eq!(centre, [255, 0, 0], "--depth {depth}: the centre is {centre:?}");
     }
+}
+
+#[test]
+fn stats_print_as_json_one_object_a_frame() {
+    let (out, _) = render_scene(
+        "json",
+        &square_with(r#"{"id":"c","name":"c","position":[0,0,-40],"target":[0,0,0]}"#),
+        &["--stats", "json", "--gif", "/dev/null", "--frames", "2"],
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let frames: Vec<serde_json::Value> = text
+        .lines()
+        .filter(|l| l.starts_with('{'))
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{l:?}: {e}")))
+        .collect();
+    // The picture's frame, then the GIF's two.
+    assert_eq!(frames.len(), 3, "{text}");
+    assert_eq!(frames[0]["frame"], 1);
+    assert_eq!(frames[2]["frame"], 2);
+    for f in &frames {
+        assert_eq!((f["width"].as_u64(), f["height"].as_u64(), f["triangles"].as_u64()), (Some(64), Some(48), Some(2)));
+        assert!(f["ms"].is_number(), "{f}");
+    }
+    // The GIF's second frame shows the square's back (turned half a turn).
+    assert!(frames[0]["pixels_written"].as_u64().unwrap() > 100, "{}", frames[0]);
+    assert_eq!((frames[2]["drawn"].as_u64(), frames[2]["culled_back_face"].as_u64()), (Some(0), Some(2)));
+}
+
+#[test]
+fn what_the_lights_options_drop_is_said() {
+    let light = |k: u32| format!(r#"{{"name":"l{k}","id":"l{k}","type":1,"direction":[0,0,1],"intensity":0.1}}"#);
+    let lights: Vec<String> = (0..10).map(light).collect();
+    let json = square_with(r#"{"id":"c","name":"c","position":[0,0,-40],"target":[0,0,0]}"#).replacen(
+        "\"cameras\"",
+        &format!("\"lights\":[{}],\"cameras\"", lights.join(",")),
+        1,
+    );
+    let (out, _) = render_scene("lights", &json, &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("the scene has 10 lights; soft3d draws 8: the last 2 are left out"), "{stderr}");
+    let (out, _) = render_scene("light-flag", &json, &["--light", "dir:0,0,1"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("--light replaces the scene's 10 light(s)"), "{stderr}");
+    let (out, _) = render_scene("phong", &json, &["--shading", "phong", "--specular", "32"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && stderr.contains("--specular is not drawn with --shading phong"), "{stderr}");
 }

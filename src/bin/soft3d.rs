@@ -80,6 +80,12 @@ enum TexFormat {
 }
 
 #[derive(Clone, Copy, ValueEnum, PartialEq)]
+enum StatsFormat {
+    Text,
+    Json,
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq)]
 enum DepthKind {
     U16,
     F32,
@@ -103,7 +109,7 @@ enum ModeArg {
     SolidWire,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, ValueEnum, PartialEq)]
 enum ShadingArg {
     Unlit,
     Flat,
@@ -185,6 +191,10 @@ struct RenderArgs {
     /// Frames of the GIF (at least 1).
     #[arg(long, default_value_t = 36, value_parser = clap::value_parser!(u32).range(1..))]
     frames: u32,
+    /// How the statistics are printed: a line of text, or one JSON object a frame (the
+    /// firmware's fields that a host render knows, and the time).
+    #[arg(long, value_enum, default_value_t = StatsFormat::Text)]
+    stats: StatsFormat,
     #[command(flatten)]
     conv: ConvertArgs,
 }
@@ -428,7 +438,17 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     let near = args.near.unwrap_or(if default_near < far { default_near } else { far * 1e-3 });
     let camera = Camera::perspective(eye, target, fov, aspect, near, far).map_err(|e| e.to_string())?;
     let mut lights = Lights::<8>::from_model(model);
+    if model.light_count() > 8 {
+        eprintln!(
+            "warning: the scene has {} lights; soft3d draws 8: the last {} are left out",
+            model.light_count(),
+            model.light_count() - 8
+        );
+    }
     if !args.light.is_empty() {
+        if model.light_count() > 0 {
+            eprintln!("warning: --light replaces the scene's {} light(s) and its ambient light", model.light_count());
+        }
         lights = Lights::new(Vec3::ZERO);
         for l in &args.light {
             let light = if let Some(v) = l.strip_prefix("dir:") {
@@ -446,6 +466,11 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         }
     }
     if let Some(power) = args.specular {
+        if args.shading == ShadingArg::Phong {
+            eprintln!(
+                "warning: --specular is not drawn with --shading phong (its per-pixel light has no specular term)"
+            );
+        }
         lights.specular = Vec3::ONE;
         lights.shininess = power;
     }
@@ -563,13 +588,13 @@ fn cmd_render(args: &RenderArgs) -> Result<()> {
     let elapsed = start.elapsed();
     let png = encode_png(&rgb, view.width, view.height)?;
     write_atomically(&args.output, &png)?;
-    println!(
-        "{}: {}x{} in {:.2} ms, {stats:?}",
-        args.output.display(),
-        view.width,
-        view.height,
-        elapsed.as_secs_f64() * 1e3
-    );
+    let ms = elapsed.as_secs_f64() * 1e3;
+    match args.stats {
+        StatsFormat::Text => {
+            println!("{}: {}x{} in {ms:.2} ms, {stats:?}", args.output.display(), view.width, view.height);
+        }
+        StatsFormat::Json => println!("{}", stats_json(1, &view, (&model, &stats), ms)),
+    }
     if let Some(gif) = &args.gif {
         write_gif(gif, &model, &view, args)?;
     }
@@ -584,6 +609,27 @@ fn encode_png(rgb: &[[u8; 3]], w: u16, h: u16) -> Result<Vec<u8>> {
     Ok(out.into_inner())
 }
 
+/// One frame's statistics as a JSON object: the fields of the firmware's line (examples/qemu)
+/// that a host render knows, and the time it took.
+fn stats_json(frame: u32, view: &View, (model, stats): (&Model<'_>, &Stats), ms: f64) -> String {
+    serde_json::json!({
+        "frame": frame,
+        "width": view.width,
+        "height": view.height,
+        "bands": view.bands,
+        "triangles": model.draw_counts().0,
+        "drawn": stats.drawn,
+        "pixels_written": stats.pixels_written,
+        "runs": stats.runs,
+        "depth_rejected": stats.depth_rejected,
+        "culled_back_face": stats.culled_back_face,
+        "culled_frustum": stats.culled_frustum + stats.culled_frustum_mesh,
+        "clipped": stats.clipped,
+        "ms": ms,
+    })
+    .to_string()
+}
+
 fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &RenderArgs) -> Result<()> {
     let mut out = Vec::new();
     {
@@ -592,7 +638,11 @@ fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &RenderArgs) -> 
         let frames = args.frames;
         for f in 0..frames {
             let spin = f as f32 / frames as f32 * std::f32::consts::TAU;
-            let (rgb, _) = render_any(model, view, spin, args)?;
+            let start = std::time::Instant::now();
+            let (rgb, stats) = render_any(model, view, spin, args)?;
+            if args.stats == StatsFormat::Json {
+                println!("{}", stats_json(f + 1, view, (model, &stats), start.elapsed().as_secs_f64() * 1e3));
+            }
             let rgba: Vec<u8> = rgb.iter().flat_map(|c| [c[0], c[1], c[2], 255]).collect();
             let img =
                 image::RgbaImage::from_raw(view.width as u32, view.height as u32, rgba).ok_or("image size mismatch")?;
