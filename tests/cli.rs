@@ -272,3 +272,16 @@ fn what_the_lights_options_drop_is_said() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success() && stderr.contains("--specular is not drawn with --shading phong"), "{stderr}");
 }
+
+#[test]
+fn a_legacy_textured_file_hints_at_the_uv_origin() {
+    let suzanne = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/suzanne/monkey.babylon");
+    let dir = scene("uv-origin");
+    for (args, hinted) in [(&[][..], true), (&["--uv-origin", "top"][..], false)] {
+        let out = render_to(&suzanne, &dir.join("out.png"), &[&["--size", "32x32"][..], args].concat());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert_eq!(stderr.contains("--uv-origin top"), hinted, "{args:?}: {stderr}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -69,6 +69,11 @@ impl Reader<'_> {
             return Ok(());
         };
         let uvs = self.bake_uvs(&geom.uvs, &slots, &cx.what);
+        // The 2013 exporters wrote V either way up: say which choice could be wrong, once.
+        let textured = slots.iter().flatten().any(|s| s.uv.is_some());
+        if textured && uvs.is_some() && get(obj, "vertices").is_some() && self.opts.uv_origin == UvOrigin::Bottom {
+            self.legacy_uvs.get_or_insert_with(|| cx.what.clone());
+        }
         let mesh = MeshData {
             name: text(obj, "name").map_err(e)?.or(text(obj, "id").map_err(e)?).unwrap_or_default(),
             world: self.world(node)?,

@@ -170,6 +170,12 @@ pub fn read_babylon(
     reader.read_meshes()?;
     reader.read_lights()?;
     reader.read_camera()?;
+    if let Some(what) = reader.legacy_uvs.take() {
+        reader.warn(std::format!(
+            "{what}: textured in the 2013 interleaved layout, whose exporters wrote V either way up: \
+             if the texture looks upside down, convert with the UV origin at the top (--uv-origin top)"
+        ));
+    }
     Ok((reader.scene, reader.warnings))
 }
 
@@ -192,6 +198,9 @@ struct Reader<'a> {
     ids: HashMap<String, usize>,
     scene: Scene,
     warnings: Vec<Warning>,
+    /// The first textured mesh in the 2013 layout read with the UV origin at the bottom (see
+    /// `read_babylon`'s hint).
+    legacy_uvs: Option<String>,
 }
 
 impl<'a> Reader<'a> {
@@ -222,6 +231,7 @@ impl<'a> Reader<'a> {
             ids: HashMap::new(),
             scene: Scene::default(),
             warnings: Vec::new(),
+            legacy_uvs: None,
         };
         r.read_nodes()?;
         Ok(r)
