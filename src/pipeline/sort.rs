@@ -10,7 +10,6 @@ use crate::target::{Band, DepthBuffer, FrameColor};
 
 /// [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront): sorts every triangle back to
 /// front by its farthest vertex in the scratch's sort list, then draws them in that order.
-#[inline(never)]
 pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     model: &Model<'_>,
