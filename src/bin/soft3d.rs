@@ -412,31 +412,9 @@ fn fitted_planes(eye: Vec3, model: &Model<'_>) -> (f32, f32) {
     ((d - r).max(far * 1e-3), far)
 }
 
-fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
-    let (width, height) = parse_size(&args.size)?;
-    if model.draw_counts().0 == 0 {
-        return Err(format!("{}: the scene has no triangles to draw", args.input.display()));
-    }
-    let aspect = width as f32 / height.max(1) as f32;
-    let scene_cam = model.camera();
-    let fov = args.fov.or(scene_cam.map(|c| c.fov)).unwrap_or(0.8);
-    let framing = Camera::framing(model, fov, aspect).map_err(|e| e.to_string())?;
-    let (default_eye, default_target) = match &scene_cam {
-        Some(c) => (c.position, c.target),
-        None => (framing.eye, framing.target),
-    };
-    let eye = args.eye.as_deref().map(|s| parse_vec3(s, "--eye")).transpose()?.unwrap_or(default_eye);
-    let target = args.target.as_deref().map(|s| parse_vec3(s, "--target")).transpose()?.unwrap_or(default_target);
-    // A camera the user moved sees the model from elsewhere: its planes are fitted to it.
-    let (default_near, default_far) = match (&scene_cam, args.eye.is_some() || args.target.is_some()) {
-        (_, true) => fitted_planes(eye, model),
-        (Some(c), false) => (c.near, c.far),
-        (None, false) => (framing.near, framing.far),
-    };
-    let far = args.far.unwrap_or(default_far);
-    // A near plane beyond the user's far plane would leave nothing: theirs decides.
-    let near = args.near.unwrap_or(if default_near < far { default_near } else { far * 1e-3 });
-    let camera = Camera::perspective(eye, target, fov, aspect, near, far).map_err(|e| e.to_string())?;
+/// The lights of the render: the scene's (at most 8), or `--light`'s in their place, with
+/// `--specular`; a warning for each thing left out.
+fn scene_lights(args: &RenderArgs, model: &Model<'_>) -> Result<Lights<8>> {
     let mut lights = Lights::<8>::from_model(model);
     if model.light_count() > 8 {
         eprintln!(
@@ -474,6 +452,35 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         lights.specular = Vec3::ONE;
         lights.shininess = power;
     }
+    Ok(lights)
+}
+
+fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
+    let (width, height) = parse_size(&args.size)?;
+    if model.draw_counts().0 == 0 {
+        return Err(format!("{}: the scene has no triangles to draw", args.input.display()));
+    }
+    let aspect = width as f32 / height.max(1) as f32;
+    let scene_cam = model.camera();
+    let fov = args.fov.or(scene_cam.map(|c| c.fov)).unwrap_or(0.8);
+    let framing = Camera::framing(model, fov, aspect).map_err(|e| e.to_string())?;
+    let (default_eye, default_target) = match &scene_cam {
+        Some(c) => (c.position, c.target),
+        None => (framing.eye, framing.target),
+    };
+    let eye = args.eye.as_deref().map(|s| parse_vec3(s, "--eye")).transpose()?.unwrap_or(default_eye);
+    let target = args.target.as_deref().map(|s| parse_vec3(s, "--target")).transpose()?.unwrap_or(default_target);
+    // A camera the user moved sees the model from elsewhere: its planes are fitted to it.
+    let (default_near, default_far) = match (&scene_cam, args.eye.is_some() || args.target.is_some()) {
+        (_, true) => fitted_planes(eye, model),
+        (Some(c), false) => (c.near, c.far),
+        (None, false) => (framing.near, framing.far),
+    };
+    let far = args.far.unwrap_or(default_far);
+    // A near plane beyond the user's far plane would leave nothing: theirs decides.
+    let near = args.near.unwrap_or(if default_near < far { default_near } else { far * 1e-3 });
+    let camera = Camera::perspective(eye, target, fov, aspect, near, far).map_err(|e| e.to_string())?;
+    let lights = scene_lights(args, model)?;
     let opts = RenderOptions {
         shading: match args.shading {
             ShadingArg::Unlit => Shading::Unlit,
