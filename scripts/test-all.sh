@@ -4,10 +4,6 @@
 # with the host rendering, the board firmware builds, and the MCU instruction-count table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# Nothing here reads input, and cargo's probe of a target (`rustc -`, cached in the target
-# folder) must not either: a CI run whose inherited input held a build script's error text
-# cached a failed thumbv6m probe in examples/qemu/target and every later firmware build failed.
-exec </dev/null
 # Each step prints the seconds since the start: CI must stay under 30 minutes.
 started=$SECONDS
 step() { printf '\n==> [%ss] %s\n' "$((SECONDS - started))" "$*"; }
