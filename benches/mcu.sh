@@ -19,13 +19,6 @@ set -euo pipefail
 
 root="$(git -C "$(dirname "${BASH_SOURCE[0]}")" rev-parse --show-toplevel)"
 fw="$root/examples/qemu"
-# Builds the firmware (cargo build ARGS in examples/qemu). Once in a while a fresh target folder
-# caches a failed `rustc -` probe of a target in .rustc_info.json (its stderr: rustc parsing a
-# build script's error text as source), and every build for that target then fails: forget
-# the cache and try again once.
-fw_build() {
-    (cd "$fw" && cargo build "$@") || { rm -f "$fw/target/.rustc_info.json"; (cd "$fw" && cargo build "$@"); }
-}
 plugin_dir="$root/../shared/tools/qemu-insncount"
 
 skip() {
@@ -114,7 +107,7 @@ for config in "${configs[@]}"; do
             features="$band_feature"
             [ "$frames" = 2 ] && features="${features:+$features,}two-frames"
             echo "building $target, $bands band(s), $frames frame(s)" >&2
-            fw_build --release --quiet --target "$target" --features "$features"
+            (cd "$fw" && cargo build --release --quiet --target "$target" --features "$features")
             elf="$work/$target-$bands-$frames.elf"
             cp "$fw/target/$target/release/soft3d-qemu" "$elf"
             run "$elf" "$machine" "$cpu" "$qemu"
@@ -135,7 +128,7 @@ for config in "${configs[@]}"; do
             # The core stack from a build that keeps the draw out of line (see examples/qemu's
             # `stack-probe`): in the counted one, LTO inlines its top levels into the firmware.
             echo "building $target, $bands band(s), stack probe" >&2
-            fw_build --release --quiet --target "$target" --features "${band_feature:+$band_feature,}stack-probe"
+            (cd "$fw" && cargo build --release --quiet --target "$target" --features "${band_feature:+$band_feature,}stack-probe")
             cp "$fw/target/$target/release/soft3d-qemu" "$work/$target-$bands-probe.elf"
             run "$work/$target-$bands-probe.elf" "$machine" "$cpu" "$qemu"
             core_stack="$(json_field core_stack_bytes "$JSON")"
@@ -190,7 +183,7 @@ for view in view-far view-near; do
         features="one-band,$view"
         [ "$frames" = 2 ] && features="$features,two-frames"
         echo "building thumbv7em-none-eabihf, $view, $frames frame(s)" >&2
-        fw_build --release --quiet --target thumbv7em-none-eabihf --features "$features"
+        (cd "$fw" && cargo build --release --quiet --target thumbv7em-none-eabihf --features "$features")
         elf="$work/$view-$frames.elf"
         cp "$fw/target/thumbv7em-none-eabihf/release/soft3d-qemu" "$elf"
         run "$elf" mps2-an386 cortex-m4

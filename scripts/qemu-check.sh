@@ -23,13 +23,6 @@ set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 fw="$root/examples/qemu"
-# Builds the firmware (cargo build ARGS in examples/qemu). Once in a while a fresh target folder
-# caches a failed `rustc -` probe of a target in .rustc_info.json (its stderr: rustc parsing a
-# build script's error text as source), and every build for that target then fails: forget
-# the cache and try again once.
-fw_build() {
-    (cd "$fw" && cargo build "$@") || { rm -f "$fw/target/.rustc_info.json"; (cd "$fw" && cargo build "$@"); }
-}
 out="$root/out"
 frame_bytes=$((240 * 240 * 2))
 
@@ -62,7 +55,7 @@ failed=0
 for config in "${configs[@]}"; do
     read -r target machine cpu suffix expected_covered <<<"$config"
     echo "== $target on $machine ($cpu)"
-    fw_build --release --quiet --target "$target"
+    (cd "$fw" && cargo build --release --quiet --target "$target")
     elf="$fw/target/$target/release/soft3d-qemu"
     frame="$out/qemu-frame-$suffix.rgb565"
     rm -f "$out/qemu-frame.rgb565" "$frame"
@@ -99,7 +92,7 @@ done
 if command -v qemu-system-riscv32 >/dev/null; then
     target=riscv32imc-unknown-none-elf
     echo "== $target on virt (rv32)"
-    fw_build --release --quiet --target "$target"
+    (cd "$fw" && cargo build --release --quiet --target "$target")
     rm -f "$out/qemu-frame.rgb565"
     set +e
     json="$(cd "$root" && timeout 300 qemu-system-riscv32 -machine virt -bios none -nographic -monitor none \
@@ -129,7 +122,7 @@ for config in "${configs[@]}"; do
     read -r target machine cpu suffix expected_covered <<<"$config"
     for view in "" view-far view-near; do
         echo "== dev profile, $target on $machine ($cpu)${view:+, $view}"
-        fw_build --quiet --target "$target" ${view:+--features "$view"}
+        (cd "$fw" && cargo build --quiet --target "$target" ${view:+--features "$view"})
         rm -f "$out/qemu-frame.rgb565"
         run_firmware "$fw/target/$target/debug/soft3d-qemu" "$machine" "$cpu" 600
         status="$STATUS"
