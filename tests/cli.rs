@@ -228,11 +228,15 @@ fn without_a_depth_buffer_the_nearest_triangle_is_drawn_last() {
 
 #[test]
 fn stats_print_as_json_one_object_a_frame() {
+    // Never /dev/null: the CLI writes through a rename, which would replace the device.
+    let gif = std::env::temp_dir().join(format!("soft3d-cli-spin-{}.gif", std::process::id()));
+    let gif = gif.to_str().unwrap();
     let (out, _) = render_scene(
         "json",
         &square_with(r#"{"id":"c","name":"c","position":[0,0,-40],"target":[0,0,0]}"#),
-        &["--stats", "json", "--gif", "/dev/null", "--frames", "2"],
+        &["--stats", "json", "--gif", gif, "--frames", "2"],
     );
+    let _ = std::fs::remove_file(gif);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8_lossy(&out.stdout);
     let frames: Vec<serde_json::Value> = text

@@ -254,6 +254,10 @@ fn load_scene(input: &Path, conv: &ConvertArgs) -> Result<Vec<u8>> {
 /// Writes `bytes` to `path` through a temporary file and a rename, so that a failure never
 /// leaves a partial file behind.
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    // A rename would replace a device or other special file (`/dev/null`) with a regular one.
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+        return Err(format!("{}: not a regular file, not overwritten", path.display()));
+    }
     let tmp = path.with_extension("tmp-soft3d");
     std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path)).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
