@@ -289,3 +289,15 @@ fn a_legacy_textured_file_hints_at_the_uv_origin() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_special_file_is_never_replaced() {
+    // A folder named like a picture: the write's rename must not replace it.
+    let dir = scene("special");
+    std::fs::create_dir_all(dir.join("out.png")).unwrap();
+    let out = render_to(&dir.join("tri.babylon"), &dir.join("out.png"), &[]);
+    let still_a_folder = dir.join("out.png").is_dir();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_refused(&out, &["out.png", "not a regular file"]);
+    assert!(still_a_folder);
+}
