@@ -327,14 +327,37 @@ impl<'f, const L: usize> Renderer<'f, L> {
         transform: Mat4,
         scratch: &mut Scratch<'_>,
     ) -> Result<Stats, DrawError> {
-        let ctx = Context::new(band, (self.camera, self.vp), self.lights, &self.options);
         match self.options.order {
-            DrawOrder::AsStored => {
-                self.claim(scratch, model, transform, &ctx);
-                Ok(draw_all(band, model, transform, &ctx, scratch))
-            }
-            DrawOrder::BackToFront => sort::draw_back_to_front(band, model, transform, &ctx, scratch),
+            DrawOrder::AsStored => Ok(self.draw_as_stored(band, model, transform, scratch)),
+            DrawOrder::BackToFront => self.draw_sorted(band, model, transform, scratch),
         }
+    }
+
+    /// [`DrawOrder::AsStored`]'s draw.
+    #[inline(always)]
+    fn draw_as_stored<C: FrameColor, D: DepthBuffer>(
+        &self,
+        band: &mut Band<'_, C, D>,
+        model: &Model<'_>,
+        transform: Mat4,
+        scratch: &mut Scratch<'_>,
+    ) -> Stats {
+        let ctx = Context::new(band, (self.camera, self.vp), self.lights, &self.options);
+        self.claim(scratch, model, transform, &ctx);
+        draw_all(band, model, transform, &ctx, scratch)
+    }
+
+    /// [`DrawOrder::BackToFront`]'s draw (see [`Renderer::draw_as_stored`]).
+    #[inline(never)]
+    fn draw_sorted<C: FrameColor, D: DepthBuffer>(
+        &self,
+        band: &mut Band<'_, C, D>,
+        model: &Model<'_>,
+        transform: Mat4,
+        scratch: &mut Scratch<'_>,
+    ) -> Result<Stats, DrawError> {
+        let ctx = Context::new(band, (self.camera, self.vp), self.lights, &self.options);
+        sort::draw_back_to_front(band, model, transform, &ctx, scratch)
     }
 }
 
