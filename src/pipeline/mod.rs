@@ -439,10 +439,10 @@ fn is_grey(c: Vec3) -> bool {
 }
 
 /// Per-draw constants.
-pub(crate) struct DrawSetup<'a> {
+pub(crate) struct DrawSetup<'a, const L: usize> {
     /// The draw's transforms; `None` in a band that fills every triangle from the vertex cache,
     /// which needs none (see `draw_mesh_with`).
-    transforms: Option<Transforms>,
+    transforms: Option<Transforms<L>>,
     pub(crate) flip: bool,
     pub(crate) uv: ([f32; 2], [f32; 2]),
     pub(crate) mesh: Mesh<'a>,
@@ -452,7 +452,7 @@ pub(crate) struct DrawSetup<'a> {
 }
 
 /// What a draw transforms and lights vertices with: matrices, and their integer forms.
-pub(crate) struct Transforms {
+pub(crate) struct Transforms<const L: usize> {
     pub(crate) mvp: Mat4,
     pub(crate) model_q: Mat4,
     pub(crate) normals: Mat3,
@@ -464,25 +464,22 @@ pub(crate) struct Transforms {
     /// Gouraud vertex light in integers, whenever the lights allow it (see
     /// [`PreparedLights::fixed`]) and the normal matrix is a rotation; on every target, as it
     /// costs fewer instructions than f32 even with an FPU.
-    pub(crate) fixed_lights: Option<FixedLights<MAX_FIXED_LIGHTS>>,
+    pub(crate) fixed_lights: Option<FixedLights<L>>,
 }
 
-/// The most lights the fixed-point vertex path evaluates in integers (more: in f32).
-const MAX_FIXED_LIGHTS: usize = 8;
+impl<const L: usize> Transforms<L> {
+    /// What [`DrawSetup::transforms`] gives a draw that has none (it never asks: see there).
+    const NONE: Self = Transforms {
+        mvp: Mat4::IDENTITY,
+        model_q: Mat4::IDENTITY,
+        normals: Mat3::IDENTITY,
+        rotation: true,
+        fixed: None,
+        fixed_lights: None,
+    };
 
-/// What [`DrawSetup::transforms`] gives a draw that has none (it never asks: see there).
-static NO_TRANSFORMS: Transforms = Transforms {
-    mvp: Mat4::IDENTITY,
-    model_q: Mat4::IDENTITY,
-    normals: Mat3::IDENTITY,
-    rotation: true,
-    fixed: None,
-    fixed_lights: None,
-};
-
-impl Transforms {
     /// The transforms of `mesh` placed by `world`.
-    fn new<const L: usize>(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4) -> Self {
+    fn new(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4) -> Self {
         let model_q = *world * mesh.dequantize();
         let normals = normal_matrix(world);
         let (mvp, sphere) = (ctx.vp * model_q, mesh.bounding_sphere());
@@ -503,11 +500,11 @@ impl Transforms {
     }
 }
 
-impl<'a> DrawSetup<'a> {
+impl<'a, const L: usize> DrawSetup<'a, L> {
     /// The draw of `mesh` placed by `world`. Not inlined: the matrix temporaries stay out of
     /// the caller's frame, which lives on under the rasterizer.
     #[inline(never)]
-    pub(crate) fn new<const L: usize>(ctx: &Context<'_, L>, mesh: Mesh<'a>, world: Mat4) -> Self {
+    pub(crate) fn new(ctx: &Context<'_, L>, mesh: Mesh<'a>, world: Mat4) -> Self {
         let flip = Mat3::from_mat4(world).determinant() < 0.0;
         Self::with(Some(Transforms::new(ctx, &mesh, &world)), mesh, flip)
     }
@@ -521,7 +518,7 @@ impl<'a> DrawSetup<'a> {
     }
 
     #[inline(always)]
-    fn with(transforms: Option<Transforms>, mesh: Mesh<'a>, flip: bool) -> Self {
+    fn with(transforms: Option<Transforms<L>>, mesh: Mesh<'a>, flip: bool) -> Self {
         DrawSetup { transforms, flip, uv: mesh.uv_transform(), arrays: mesh.arrays(), mesh, vertices: None }
     }
 
@@ -529,9 +526,9 @@ impl<'a> DrawSetup<'a> {
     /// triangles whose corners are all in the vertex cache and none needs clipping (and if it
     /// were, the identity is no panic).
     #[inline]
-    pub(crate) fn transforms(&self) -> &Transforms {
+    pub(crate) fn transforms(&self) -> &Transforms<L> {
         debug_assert!(self.transforms.is_some(), "transforms asked of a draw made without them");
-        self.transforms.as_ref().unwrap_or(&NO_TRANSFORMS)
+        self.transforms.as_ref().unwrap_or(&Transforms::NONE)
     }
 }
 

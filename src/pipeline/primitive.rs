@@ -46,7 +46,7 @@ impl<'a, 'm> Surface<'a, 'm> {
         material: &'a Material,
         sampler: Option<&'a Sampler<'m>>,
         ctx: &Context<'_, L>,
-        s: &DrawSetup<'_>,
+        s: &DrawSetup<'_, L>,
     ) -> Self {
         let white = ctx.grey_light && !s.arrays.has_colors();
         let lit = LitBy::of_surface(ctx, white);
@@ -71,7 +71,7 @@ impl<'a, 'm> Surface<'a, 'm> {
 pub(crate) fn draw_triangle<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    (s, common): (&DrawSetup<'c>, Option<&'c [TransformedVertex]>),
+    (s, common): (&DrawSetup<'c, L>, Option<&'c [TransformedVertex]>),
     (t, idx, learnt): (u32, [u32; 3], Option<Learnt>),
     (surface, variant): (&Surface<'_, '_>, Option<Variant<C, D, L>>),
     stats: &mut Stats,
@@ -114,7 +114,7 @@ fn fill_cached<C: FrameColor, D: DepthBuffer, const L: usize>(
 fn fill_flat_cached<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    (s, t): (&DrawSetup<'_>, u32),
+    (s, t): (&DrawSetup<'_, L>, u32),
     (p, area): (&[&TransformedVertex; 3], i32),
     surface: (&Surface<'_, '_>, Option<Variant<C, D, L>>),
     stats: &mut Stats,
@@ -175,7 +175,7 @@ fn front_end<'c, const L: usize>(
 #[inline(always)]
 pub(crate) fn common_cache<'c, const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'c>,
+    s: &DrawSetup<'c, L>,
 ) -> Option<&'c [TransformedVertex]> {
     s.vertices.filter(|_| ctx.opts.mode == Mode::Solid)
 }
@@ -213,7 +213,7 @@ fn cached_tests<const L: usize>(
 fn draw_other<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     t: u32,
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
@@ -248,7 +248,7 @@ enum Other {
 #[inline(always)]
 fn other_front<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     t: u32,
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
@@ -285,7 +285,7 @@ fn other_front<const L: usize>(
 #[inline(always)]
 fn cached_screen<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     (idx, p): (&[u32; 3], [&TransformedVertex; 3]),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
@@ -352,7 +352,7 @@ fn cull<const L: usize>(
 #[inline(never)]
 fn full_varyings<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     (idx, p, class): (&[u32; 3], &[Projected; 3], ClipResult),
     known: (Option<i32>, Option<TriangleRows>),
     surface: &Surface<'_, '_>,

@@ -39,7 +39,7 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
     let list = &mut scratch[..n];
     list.sort_unstable_by_key(|e| core::cmp::Reverse(e.key));
     let mut stats = Stats::default();
-    let mut current: Option<(u16, DrawSetup<'_>)> = None;
+    let mut current: Option<(u16, DrawSetup<'_, L>)> = None;
     for e in list.iter() {
         if current.as_ref().is_none_or(|(d, _)| *d != e.draw) {
             current = model

@@ -16,7 +16,7 @@ use crate::target::{Band, DepthBuffer, FrameColor};
 pub(super) fn draw_range<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     (range, seen): (Range<u32>, Option<&mut [TriangleRows]>),
     (surface, variant): (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
     stats: &mut Stats,
@@ -93,7 +93,7 @@ fn learnt(rows: TriangleRows) -> Option<Learnt> {
 fn draw_one<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'c>,
+    s: &DrawSetup<'c, L>,
     t: (u32, Option<Learnt>),
     surface: (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
     stats: &mut Stats,
@@ -109,7 +109,7 @@ fn draw_one<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
 fn draw_first_band<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'c>,
+    s: &DrawSetup<'c, L>,
     (seen, first): (&mut [TriangleRows], u32),
     surface: (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
     stats: &mut Stats,
@@ -139,7 +139,7 @@ fn draw_first_band<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
 struct Later<'b, 'a, 'c, C: FrameColor, D: DepthBuffer, const L: usize> {
     band: &'b mut Band<'a, C, D>,
     ctx: &'b Context<'b, L>,
-    s: &'b DrawSetup<'c>,
+    s: &'b DrawSetup<'c, L>,
     cache: &'c [TransformedVertex],
     indices: U16Triangles<'c>,
     surface: &'b Surface<'b, 'b>,
@@ -152,7 +152,7 @@ impl<'b, 'a, 'c, C: FrameColor, D: DepthBuffer, const L: usize> Later<'b, 'a, 'c
     fn new(
         band: &'b mut Band<'a, C, D>,
         ctx: &'b Context<'b, L>,
-        s: &'b DrawSetup<'c>,
+        s: &'b DrawSetup<'c, L>,
         (surface, variant): (&'b Surface<'b, 'b>, Option<fragment::Variant<C, D, L>>),
     ) -> Option<Self> {
         let cache = common_cache(ctx, s).filter(|_| ctx.opts.shading != Shading::Flat)?;

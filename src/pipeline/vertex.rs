@@ -58,7 +58,7 @@ impl Projected {
 
 /// Vertex `i` in clip space.
 #[inline(always)]
-pub(crate) fn clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
+pub(crate) fn clip_position<const L: usize>(s: &DrawSetup<'_, L>, i: u32) -> Vec4 {
     match &s.transforms().fixed {
         Some(fixed) => fixed_clip_position(s, fixed, i),
         None => float_clip_position(s, i),
@@ -67,24 +67,24 @@ pub(crate) fn clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
 
 /// [`clip_position`] with the integer transform `t` and bounding sphere `sphere`.
 #[inline(always)]
-fn fixed_clip_position(s: &DrawSetup<'_>, (t, sphere): &(FixedTransform, (Vec3, f32)), i: u32) -> Vec4 {
+fn fixed_clip_position<const L: usize>(s: &DrawSetup<'_, L>, (t, sphere): &(FixedTransform, (Vec3, f32)), i: u32) -> Vec4 {
     t.apply(s.arrays.position_int(i, *sphere))
 }
 
 /// [`clip_position`] without the integer transform.
 #[inline(always)]
-fn float_clip_position(s: &DrawSetup<'_>, i: u32) -> Vec4 {
+fn float_clip_position<const L: usize>(s: &DrawSetup<'_, L>, i: u32) -> Vec4 {
     s.transforms().mvp * s.arrays.position_stored(i).extend(1.0)
 }
 
 /// Vertex `i` in world space.
-pub(crate) fn world_position(s: &DrawSetup<'_>, i: u32) -> Vec3 {
+pub(crate) fn world_position<const L: usize>(s: &DrawSetup<'_, L>, i: u32) -> Vec3 {
     s.transforms().model_q.transform_point3(s.arrays.position_stored(i))
 }
 
 /// Vertex `i`'s world-space unit normal.
 #[inline(always)]
-pub(crate) fn world_normal(s: &DrawSetup<'_>, i: u32) -> Vec3 {
+pub(crate) fn world_normal<const L: usize>(s: &DrawSetup<'_, L>, i: u32) -> Vec3 {
     let t = s.transforms();
     let n = t.normals * s.arrays.normal(i);
     if t.rotation {
@@ -96,7 +96,7 @@ pub(crate) fn world_normal(s: &DrawSetup<'_>, i: u32) -> Vec3 {
 
 /// Gouraud light of vertex `i` (zero for the other shadings, which do not use it).
 #[inline(always)]
-pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
+pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>, i: u32) -> VertexLight {
     if ctx.opts.shading != Shading::Gouraud {
         return [0; 4];
     }
@@ -109,7 +109,7 @@ pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'
 
 /// [`vertex_light`] of a Gouraud-lit vertex without the integer lights.
 #[inline(always)]
-fn float_vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> VertexLight {
+fn float_vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>, i: u32) -> VertexLight {
     let n = world_normal(s, i);
     // Directional and hemispheric light need no position.
     let p = if ctx.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
@@ -136,7 +136,7 @@ const WHITE: VertexLight = [u16::MAX, u16::MAX, u16::MAX, 0];
 /// Not inlined: it runs for the rare triangles that need clipping, and for draws without a
 /// cache.
 #[inline(never)]
-pub(crate) fn projected<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, i: u32) -> Projected {
+pub(crate) fn projected<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>, i: u32) -> Projected {
     match &s.transforms().fixed {
         Some(fixed) => fixed_projected(ctx, s, fixed, i),
         None => Projected::new(ctx, float_clip_position(s, i)),
@@ -150,7 +150,7 @@ pub(crate) fn projected<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>,
 #[inline(always)]
 fn fixed_projected<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     (t, sphere): &(FixedTransform, (Vec3, f32)),
     i: u32,
 ) -> Projected {
@@ -160,7 +160,7 @@ fn fixed_projected<const L: usize>(
 
 /// The Gouraud light of corners `idx` (see [`vertex_light`]). Not inlined, as [`projected`].
 #[inline(never)]
-fn vertex_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u32; 3]) -> [VertexLight; 3] {
+fn vertex_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>, idx: &[u32; 3]) -> [VertexLight; 3] {
     idx.map(|i| vertex_light(ctx, s, i))
 }
 
@@ -175,7 +175,7 @@ fn vertex_lights<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &
 #[inline(never)]
 pub(crate) fn fill_cache<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     cache: &mut [TransformedVertex],
     scale: (f32, f32),
 ) -> bool {
@@ -216,7 +216,7 @@ pub(crate) fn is_filled(cache: &[TransformedVertex]) -> bool {
 #[inline(never)]
 fn fill_fixed_positions<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     fixed: &(FixedTransform, (Vec3, f32)),
     cache: &mut [TransformedVertex],
     scale: (f32, f32),
@@ -226,8 +226,8 @@ fn fill_fixed_positions<const L: usize>(
 
 /// [`fill_cache`]'s positions, with `projected` giving a vertex's projection.
 #[inline(always)]
-fn fill_positions(
-    s: &DrawSetup<'_>,
+fn fill_positions<const L: usize>(
+    s: &DrawSetup<'_, L>,
     cache: &mut [TransformedVertex],
     scale: (f32, f32),
     projected: impl Fn(u32) -> Projected,
@@ -250,7 +250,7 @@ fn fill_light(cache: &mut [TransformedVertex], light: impl Fn(u32) -> VertexLigh
 
 /// [`fill_light`] with Gouraud light in integers, `at` giving a stored normal's light.
 #[inline(always)]
-fn fill_fixed_light(s: &DrawSetup<'_>, cache: &mut [TransformedVertex], at: impl Fn([i16; 3]) -> [u16; 3]) {
+fn fill_fixed_light<const L: usize>(s: &DrawSetup<'_, L>, cache: &mut [TransformedVertex], at: impl Fn([i16; 3]) -> [u16; 3]) {
     fill_light(cache, |i| {
         let [r, g, b] = at(s.arrays.normal_q(i));
         coloured_light(s, i, [r, g, b, 0])
@@ -269,7 +269,7 @@ pub(crate) fn cached_corners<'c>(cache: &'c [TransformedVertex], idx: &[u32; 3])
 /// `light` times vertex `i`'s colour, as the varyings carry it: red, green and blue scaled (see
 /// [`coloured_fixed`]), specular as is.
 #[inline(always)]
-pub(crate) fn coloured_light(s: &DrawSetup<'_>, i: u32, light: VertexLight) -> VertexLight {
+pub(crate) fn coloured_light<const L: usize>(s: &DrawSetup<'_, L>, i: u32, light: VertexLight) -> VertexLight {
     if !s.arrays.has_colors() {
         return light;
     }
@@ -285,7 +285,7 @@ pub(crate) fn coloured_light(s: &DrawSetup<'_>, i: u32, light: VertexLight) -> V
 #[inline(always)]
 pub(crate) fn corner_lights<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     idx: &[u32; 3],
 ) -> [VertexLight; 3] {
     match ctx.opts.shading {
@@ -300,7 +300,7 @@ pub(crate) fn corner_lights<const L: usize>(
 #[inline(always)]
 pub(crate) fn flat_corner_lights<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     idx: &[u32; 3],
 ) -> [VertexLight; 3] {
     let light = face_light(ctx, s, idx);
@@ -309,7 +309,7 @@ pub(crate) fn flat_corner_lights<const L: usize>(
 
 /// The flat light of triangle `idx`. Not inlined: the common (Gouraud) path stays small.
 #[inline(never)]
-fn face_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_>, idx: &[u32; 3]) -> VertexLight {
+fn face_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>, idx: &[u32; 3]) -> VertexLight {
     // Face normal from the world-space triangle. Front faces wind counter-clockwise as seen
     // (y up), and with +z pointing away from the viewer that makes (p2-p0) x (p1-p0) point
     // towards the viewer, i.e. outward.
@@ -332,7 +332,7 @@ pub(crate) fn texel_scale(sampler: Option<&Sampler<'_>>) -> (f32, f32) {
 
 /// Vertex `i`'s texel coordinates (u, v) in f32, scaled by [`texel_scale`].
 #[inline(always)]
-pub(crate) fn texel(s: &DrawSetup<'_>, i: u32, (width, height): (f32, f32)) -> [f32; 2] {
+pub(crate) fn texel<const L: usize>(s: &DrawSetup<'_, L>, i: u32, (width, height): (f32, f32)) -> [f32; 2] {
     let (uv, (o, sc)) = (s.arrays.uv_q(i), s.uv);
     // In `F32`: once per vertex, but library calls without an FPU (but for a power-of-two
     // size, the usual texture).
@@ -355,7 +355,7 @@ struct TexelConversion {
 impl TexelConversion {
     /// The conversion of draw `s`'s texel coordinates with texel scale `scale`.
     #[inline(always)]
-    fn new(s: &DrawSetup<'_>, scale: (f32, f32)) -> Self {
+    fn new<const L: usize>(s: &DrawSetup<'_, L>, scale: (f32, f32)) -> Self {
         #[cfg(soft_float)]
         {
             let (o, sc) = s.uv;
@@ -377,7 +377,7 @@ impl TexelConversion {
     // Left to the compiler with an FPU (Cortex-M4F reference frame -1.8k instructions), inlined
     // without one (thumbv6m +30k otherwise): measured, as register allocation decides it.
     #[cfg_attr(soft_float, inline(always))]
-    fn cached(&self, s: &DrawSetup<'_>, i: u32) -> ([FDot16; 2], bool) {
+    fn cached<const L: usize>(&self, s: &DrawSetup<'_, L>, i: u32) -> ([FDot16; 2], bool) {
         #[cfg(soft_float)]
         if let Some([u, v]) = self.exact {
             let uv = s.arrays.uv_q(i);
@@ -438,7 +438,7 @@ pub(crate) fn vertex_lit_varyings(texel: [FDot16; 2], light: VertexLight) -> Scr
 /// `scale`: [`texel_scale`].
 pub(crate) fn vertex_varyings<const L: usize>(
     ctx: &Context<'_, L>,
-    s: &DrawSetup<'_>,
+    s: &DrawSetup<'_, L>,
     idx: &[u32; 3],
     scale: (f32, f32),
 ) -> [ClipVaryings; 3] {
