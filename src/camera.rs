@@ -25,7 +25,8 @@ pub struct Camera {
 /// Why a camera could not be built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CameraError {
-    /// `eye == target`, or the view direction is parallel to +y, or a value is not finite.
+    /// `eye == target`, or the view direction is parallel to +y (or to the given `up`), or a
+    /// value is not finite.
     BadLookAt,
     /// Field of view not in (0, pi), aspect <= 0, near <= 0 (perspective) or far <= near.
     BadProjection,
@@ -57,6 +58,21 @@ impl Camera {
         near: f32,
         far: f32,
     ) -> Result<Self, CameraError> {
+        Self::perspective_up((eye, target, Vec3::Y), fov_y, aspect, near, far)
+    }
+
+    /// [`Camera::perspective`] with `up` (not parallel to the view) pointing up on screen: for
+    /// a camera looking straight up or down, which +y cannot orient, or a tilted horizon.
+    ///
+    /// # Errors
+    /// [`CameraError`] for a degenerate look-at or out-of-range projection values.
+    pub fn perspective_up(
+        (eye, target, up): (Vec3, Vec3, Vec3),
+        fov_y: f32,
+        aspect: f32,
+        near: f32,
+        far: f32,
+    ) -> Result<Self, CameraError> {
         let ok = fov_y > 0.0
             && fov_y < core::f32::consts::PI
             && aspect > 0.0
@@ -67,7 +83,7 @@ impl Camera {
         if !ok {
             return Err(CameraError::BadProjection);
         }
-        let view = look_at(eye, target)?;
+        let view = look_at(eye, target, up)?;
         Ok(Camera { view, projection: perspective_lh(fov_y, aspect, near, far), eye, target, near, far })
     }
 
@@ -83,6 +99,20 @@ impl Camera {
         near: f32,
         far: f32,
     ) -> Result<Self, CameraError> {
+        Self::orthographic_up((eye, target, Vec3::Y), width, height, near, far)
+    }
+
+    /// [`Camera::orthographic`] with `up` pointing up on screen (see [`Camera::perspective_up`]).
+    ///
+    /// # Errors
+    /// [`CameraError`] for a degenerate look-at or out-of-range values.
+    pub fn orthographic_up(
+        (eye, target, up): (Vec3, Vec3, Vec3),
+        width: f32,
+        height: f32,
+        near: f32,
+        far: f32,
+    ) -> Result<Self, CameraError> {
         let ok = width > 0.0
             && height > 0.0
             && far > near
@@ -92,7 +122,7 @@ impl Camera {
         if !ok {
             return Err(CameraError::BadProjection);
         }
-        let view = look_at(eye, target)?;
+        let view = look_at(eye, target, up)?;
         Ok(Camera { view, projection: orthographic_lh(width, height, near, far), eye, target, near, far })
     }
 
@@ -124,9 +154,32 @@ impl Camera {
     }
 }
 
-fn look_at(eye: Vec3, target: Vec3) -> Result<Mat4, CameraError> {
-    if !eye.is_finite() || !target.is_finite() {
+fn look_at(eye: Vec3, target: Vec3, up: Vec3) -> Result<Mat4, CameraError> {
+    if !eye.is_finite() || !target.is_finite() || !up.is_finite() {
         return Err(CameraError::BadLookAt);
     }
-    look_at_lh(eye, target, Vec3::Y).ok_or(CameraError::BadLookAt)
+    look_at_lh(eye, target, up).ok_or(CameraError::BadLookAt)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A camera straight above its target cannot be oriented by +y; with +z up it sees the
+    /// target at the centre, +z towards the top of the frame and +x to the right.
+    #[test]
+    fn an_up_vector_orients_a_camera_looking_straight_down() {
+        let (eye, target) = (Vec3::new(0.0, 10.0, 0.0), Vec3::ZERO);
+        assert_eq!(Camera::perspective(eye, target, 0.8, 1.0, 0.1, 100.0), Err(CameraError::BadLookAt));
+        let camera = Camera::perspective_up((eye, target, Vec3::Z), 0.8, 1.0, 0.1, 100.0).unwrap();
+        let ndc = |p: Vec3| camera.view_projection().project_point3(p);
+        assert!(ndc(target).x.abs() < 1e-6 && ndc(target).y.abs() < 1e-6);
+        assert!(ndc(Vec3::Z).y > 0.0 && ndc(Vec3::Z).x.abs() < 1e-6, "{:?}", ndc(Vec3::Z));
+        assert!(ndc(Vec3::X).x > 0.0 && ndc(Vec3::X).y.abs() < 1e-6, "{:?}", ndc(Vec3::X));
+        let ortho = Camera::orthographic_up((eye, target, Vec3::Z), 4.0, 4.0, 0.1, 100.0).unwrap();
+        assert!((ortho.view_projection().project_point3(Vec3::Z).y - 0.5).abs() < 1e-6);
+        for up in [Vec3::Y, Vec3::ZERO, Vec3::NAN] {
+            assert_eq!(Camera::perspective_up((eye, target, up), 0.8, 1.0, 0.1, 100.0), Err(CameraError::BadLookAt));
+        }
+    }
 }

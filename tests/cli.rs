@@ -87,7 +87,7 @@ fn the_picture_is_named_as_what_it_is() {
     let out = render_to(&dir.join("tri.babylon"), &dir.join("out.jpg"), &[]);
     let written = dir.join("out.jpg").exists();
     std::fs::remove_dir_all(&dir).unwrap();
-    assert_refused(&out, &["-o", "PNG", "out.jpg"]);
+    assert_refused(&out, &["-o", "PNG", "*.raw", "*.gif", "out.jpg"]);
     assert!(!written, "a file was written");
 }
 
@@ -234,7 +234,7 @@ fn stats_print_as_json_one_object_a_frame() {
     let (out, _) = render_scene(
         "json",
         &square_with(r#"{"id":"c","name":"c","position":[0,0,-40],"target":[0,0,0]}"#),
-        &["--stats", "json", "--gif", gif, "--frames", "2"],
+        &["--stats", "json", "--gif", gif, "--frames", "2", "--bands", "1"],
     );
     let _ = std::fs::remove_file(gif);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -300,4 +300,109 @@ fn a_special_file_is_never_replaced() {
     std::fs::remove_dir_all(&dir).unwrap();
     assert_refused(&out, &["out.png", "not a regular file"]);
     assert!(still_a_folder);
+}
+
+/// Renders the scene `json` (as `render_scene` does, at 64x48 over black) into `output` in a
+/// fresh folder: the run and the file's bytes (empty when none was written).
+fn render_scene_as(test: &str, json: &str, output: &str, args: &[&str]) -> (Output, Vec<u8>) {
+    let dir = scene(test);
+    std::fs::write(dir.join("test.babylon"), json).unwrap();
+    let all = [&["--size", "64x48", "--background", "0,0,0", "--shading", "unlit"][..], args].concat();
+    let out = render_to(&dir.join("test.babylon"), &dir.join(output), &all);
+    let bytes = std::fs::read(dir.join(output)).unwrap_or_default();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(out.status.success(), "{test}: {}", String::from_utf8_lossy(&out.stderr));
+    (out, bytes)
+}
+
+/// A square seen from (0,0,-40), tinted (a material colour with three different channels).
+fn tinted_square() -> String {
+    square_with(r#"{"id":"c","name":"c","position":[0,0,-40],"target":[0,0,0]}"#).replacen(
+        "\"meshes\":[{",
+        r#""materials":[{"name":"m","id":"m","diffuse":[1,0.5,0.25]}],"meshes":[{"materialId":"m","#,
+        1,
+    )
+}
+
+#[test]
+fn any_thread_and_band_count_draws_the_same_picture() {
+    let json = tinted_square();
+    let (_, one) = render_scene_as("threads-1", &json, "out.png", &["--threads", "1", "--bands", "1"]);
+    for args in
+        [&["--threads", "2"][..], &["--threads", "3", "--bands", "7"], &["--threads", "8", "--bands", "48"], &[]]
+    {
+        let (out, many) = render_scene_as("threads-n", &json, "out.png", args);
+        assert!(many == one, "{args:?}: {}", String::from_utf8_lossy(&out.stdout));
+    }
+    let out = render("bands", &["--bands", "0"]);
+    assert_refused(&out, &["--bands", "1..=480"]);
+}
+
+#[test]
+fn raw_output_is_the_framebuffer_in_the_chosen_format() {
+    let json = tinted_square();
+    let png = |format: &str| {
+        let (_, bytes) = render_scene_as(&format!("png-{format}"), &json, "out.png", &["--format", format]);
+        image::load_from_memory(&bytes).unwrap().to_rgb8().into_raw()
+    };
+    let raw =
+        |format: &str, name: &str| render_scene_as(&format!("raw-{format}"), &json, name, &["--format", format]).1;
+    // RGB888: three bytes a pixel, the PNG's; gray: one, the PNG's grey level.
+    assert_eq!(raw("rgb888", "out.raw"), png("rgb888"));
+    let grey: Vec<u8> = png("gray8").chunks(3).map(|p| p[0]).collect();
+    assert_eq!(raw("gray8", "out.bin"), grey);
+    // RGB565: two bytes a pixel, little-endian, and big-endian for rgb565be; the tint's
+    // channels narrowed to 5, 6 and 5 bits.
+    let (le, be) = (raw("rgb565", "out.raw"), raw("rgb565be", "out.raw"));
+    assert_eq!(le.len(), 64 * 48 * 2);
+    let swapped: Vec<u8> = be.chunks(2).flat_map(|p| [p[1], p[0]]).collect();
+    assert_eq!(le, swapped);
+    let centre = (24 * 64 + 32) * 2;
+    assert_eq!(u16::from_be_bytes([be[centre], be[centre + 1]]), 31 << 11 | 32 << 5 | 8);
+    // Mono: a bit a pixel, most significant first, 8 bytes a row of 64.
+    let mono = raw("mono", "out.raw");
+    let lit: Vec<bool> = png("mono").chunks(3).map(|p| p[0] > 0).collect();
+    assert_eq!(mono.len(), 64 * 48 / 8);
+    for (i, on) in lit.iter().enumerate() {
+        assert_eq!(mono[i / 8] >> (7 - i % 8) & 1 == 1, *on, "pixel {i}");
+    }
+    assert!(lit.iter().any(|&on| on) && !lit.iter().all(|&on| on));
+}
+
+#[test]
+fn a_gif_output_is_the_turntable() {
+    let (_, gif) = render_scene_as("gif-out", &tinted_square(), "spin.gif", &["--frames", "3"]);
+    use image::AnimationDecoder;
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::Cursor::new(gif)).unwrap();
+    let frames = decoder.into_frames().collect_frames().unwrap();
+    assert_eq!(frames.len(), 3);
+    assert_eq!(frames[0].buffer().dimensions(), (64, 48));
+}
+
+#[test]
+fn an_up_direction_orients_a_camera_looking_straight_down() {
+    // The square lies in the xz plane under an eye at y = 40.
+    let json = r#"{"meshes":[{"name":"s","id":"s","positions":[-10,0,-10,10,0,-10,10,0,10,-10,0,10],
+        "indices":[0,1,2,0,2,3],"normals":[0,1,0,0,1,0,0,1,0,0,1,0]}]}"#;
+    let down = ["--eye", "0,40,0", "--target", "0,0,0"];
+    let (out, _) = render_scene("up-default", json, &down);
+    assert_refused(&out, &["--up", "0,0,1"]);
+    let (out, picture) = render_scene("up", json, &[&down[..], &["--up", "0,0,1"]].concat());
+    assert!(drawn_pixels(&out, picture.as_ref()) > 300);
+    let (out, _) = render_scene("up-zero", json, &[&down[..], &["--up", "0,0,0"]].concat());
+    assert_refused(&out, &["--up", "not be zero"]);
+}
+
+#[test]
+fn an_orthographic_camera_shows_the_same_size_at_any_distance() {
+    let json = tinted_square();
+    // 40 units from the bottom of the frame to the top: the 20-unit square is 24 of 48 rows,
+    // and 24 columns (the frame shows 53.3 units across its 64).
+    for eye in ["0,0,-20", "0,0,-200"] {
+        let args = ["--camera", "ortho", "--ortho-height", "40", "--eye", eye, "--target", "0,0,0"];
+        let (out, picture) = render_scene(&format!("ortho{eye}"), &json, &args);
+        assert_eq!(drawn_pixels(&out, picture.as_ref()), 24 * 24, "eye {eye}");
+    }
+    let (out, _) = render_scene("ortho-bad", &json, &["--camera", "ortho", "--ortho-height", "-1"]);
+    assert_refused(&out, &["--ortho-height", "finite size above 0"]);
 }

@@ -11,8 +11,8 @@ use soft3d::testing::math::Vec3;
 use soft3d::DepthBuffer;
 use soft3d::TextureFormat;
 use soft3d::{
-    Band, Camera, DrawOrder, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Scratch, Shading,
-    SortEntry, Stats, MAX_DIMENSION,
+    Band, Camera, DrawOrder, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Rgb565Be, Scratch,
+    Shading, SortEntry, Stats, MAX_DIMENSION,
 };
 
 #[derive(Parser)]
@@ -41,8 +41,8 @@ enum Command {
         #[command(flatten)]
         conv: ConvertArgs,
     },
-    /// Render a scene (.babylon or .s3d) to a PNG (or an animated GIF).
-    Render(RenderArgs),
+    /// Render a scene (.babylon or .s3d) to a PNG, a raw framebuffer or an animated GIF.
+    Render(Box<RenderArgs>),
 }
 
 #[derive(Args, Clone)]
@@ -94,10 +94,22 @@ enum DepthKind {
 
 #[derive(Clone, Copy, ValueEnum, PartialEq)]
 enum PixelFormat {
+    /// RGB565, little-endian in a raw file (as a Cortex-M or RISC-V framebuffer holds it).
     Rgb565,
+    /// RGB565 big-endian (what ST7789 and ILI9341 displays take, and embedded-graphics'
+    /// `ImageRaw<Rgb565>` reads).
+    #[value(name = "rgb565be")]
+    Rgb565Be,
     Rgb888,
     Gray8,
     Mono,
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq)]
+enum CameraKind {
+    Perspective,
+    /// Orthographic, showing --ortho-height world units from the bottom of the frame to the top.
+    Ortho,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -127,7 +139,9 @@ enum FilterArg {
 struct RenderArgs {
     /// The scene (.babylon is converted in memory).
     input: PathBuf,
-    /// Output PNG (its name ends in .png).
+    /// Output file, by its extension: .png (a PNG picture), .raw or .bin (the framebuffer's
+    /// bytes, row by row, in --format's layout; mono: 1 bit a pixel, rows padded to a byte,
+    /// most significant bit first) or .gif (the turntable animation of --frames frames).
     #[arg(short, long)]
     output: PathBuf,
     /// Frame size WxH, each in 1..=1536.
@@ -139,6 +153,17 @@ struct RenderArgs {
     /// Camera target x,y,z.
     #[arg(long, allow_hyphen_values = true)]
     target: Option<String>,
+    /// The direction x,y,z that points up on screen (default 0,1,0; the scene camera's own is
+    /// not read): for a camera looking straight up or down, or a tilted horizon.
+    #[arg(long, allow_hyphen_values = true)]
+    up: Option<String>,
+    /// The projection.
+    #[arg(long, value_enum, default_value_t = CameraKind::Perspective)]
+    camera: CameraKind,
+    /// --camera ortho: the world units the frame shows from bottom to top (default: the
+    /// diameter of the scene's bounding sphere); the width follows from the frame's aspect.
+    #[arg(long, allow_hyphen_values = true)]
+    ortho_height: Option<f32>,
     /// Vertical field of view in radians.
     #[arg(long)]
     fov: Option<f32>,
@@ -154,9 +179,13 @@ struct RenderArgs {
     /// Depth buffer (none: triangles drawn back to front, the painter's algorithm).
     #[arg(long, value_enum, default_value_t = DepthKind::U16)]
     depth: DepthKind,
-    /// Render in N horizontal bands.
-    #[arg(long, default_value_t = 1)]
-    bands: u16,
+    /// Render in N horizontal bands, in 1..=the frame's height (default: one a thread).
+    #[arg(long)]
+    bands: Option<u16>,
+    /// Threads drawing the bands (default: one a core); the picture is the same for every
+    /// count.
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
+    threads: Option<u16>,
     /// Background colour r,g,b (0-255).
     #[arg(long, default_value = "32,32,48")]
     background: String,
@@ -404,6 +433,8 @@ struct View {
     width: u16,
     height: u16,
     bands: u16,
+    /// Threads drawing the bands (at most one a band).
+    threads: u16,
 }
 
 /// Near and far planes for an eye at `eye` that take in the whole of `model` (its bounding
@@ -483,7 +514,19 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     let far = args.far.unwrap_or(default_far);
     // A near plane beyond the user's far plane would leave nothing: theirs decides.
     let near = args.near.unwrap_or(if default_near < far { default_near } else { far * 1e-3 });
-    let camera = Camera::perspective(eye, target, fov, aspect, near, far).map_err(|e| e.to_string())?;
+    let up = args.up.as_deref().map(|s| parse_vec3(s, "--up")).transpose()?.unwrap_or(Vec3::Y);
+    let camera = match args.camera {
+        CameraKind::Perspective => Camera::perspective_up((eye, target, up), fov, aspect, near, far),
+        CameraKind::Ortho => {
+            let diameter = 2.0 * model.bounds().map_or(1.0, |(_, radius)| radius);
+            let h = args.ortho_height.unwrap_or(diameter);
+            if !(h.is_finite() && h > 0.0) {
+                return Err(format!("--ortho-height: expected a finite size above 0, got {h}"));
+            }
+            Camera::orthographic_up((eye, target, up), h * aspect, h, near, far)
+        }
+    }
+    .map_err(|e| camera_error(e, (eye, target, up)))?;
     let lights = scene_lights(args, model)?;
     let opts = RenderOptions {
         shading: match args.shading {
@@ -510,47 +553,195 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         order: if args.depth == DepthKind::None { DrawOrder::BackToFront } else { DrawOrder::AsStored },
         wire_color: matches!(args.mode, ModeArg::SolidWire).then_some([255, 255, 0]),
     };
-    if args.bands == 0 || args.bands > height {
-        return Err(format!("--bands: must be 1..={height}"));
-    }
-    Ok(View { camera, lights, opts, background: parse_rgb(&args.background)?, width, height, bands: args.bands })
+    let threads = args.threads.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, |n| u16::try_from(n.get()).unwrap_or(256).min(256))
+    });
+    let bands = match args.bands {
+        Some(b) if b == 0 || b > height => {
+            return Err(format!("--bands: must be 1..={height} (the frame's height), got {b}"))
+        }
+        Some(b) => b,
+        None => threads.min(height),
+    };
+    let background = parse_rgb(&args.background)?;
+    Ok(View { camera, lights, opts, background, width, height, bands, threads: threads.min(bands) })
 }
 
-/// Renders one frame band by band into RGB8, in pixel format `C` with depth buffer kind `depth`.
-fn render_frame<C: FrameColor + Default>(
+/// What is wrong with a camera at `eye` looking at `target` with `up`, in the options' words.
+fn camera_error(e: soft3d::CameraError, (eye, target, up): (Vec3, Vec3, Vec3)) -> String {
+    if e == soft3d::CameraError::BadLookAt && eye != target && up != Vec3::ZERO {
+        let along = (target - eye).normalize().cross(up.normalize()).length() < 1e-6;
+        if along {
+            return format!(
+                "camera: it looks along its up direction {:?} (--up, default 0,1,0): give another --up, e.g. --up 0,0,1",
+                up.to_array()
+            );
+        }
+    }
+    if e == soft3d::CameraError::BadLookAt && up == Vec3::ZERO {
+        return "--up: must not be zero".to_string();
+    }
+    e.to_string()
+}
+
+/// A rendered frame: its pixels widened to RGB888 (for PNG and GIF), the framebuffer's own
+/// bytes (for raw output, when asked for) and what the draw counted.
+struct Frame {
+    rgb: Vec<[u8; 3]>,
+    raw: Vec<u8>,
+    stats: Stats,
+}
+
+/// A pixel format the CLI renders into, and how its framebuffer is written to a raw file.
+trait RawPixels: FrameColor + Default + Send {
+    /// `pixels`, rows of `width`, as the bytes of a raw file.
+    fn raw(pixels: &[Self], width: usize) -> Vec<u8>;
+}
+
+impl RawPixels for Rgb888 {
+    fn raw(pixels: &[Self], _: usize) -> Vec<u8> {
+        pixels.iter().flat_map(|c| c.to_rgb888()).collect()
+    }
+}
+
+impl RawPixels for Rgb565 {
+    fn raw(pixels: &[Self], _: usize) -> Vec<u8> {
+        use embedded_graphics_core::prelude::IntoStorage;
+        pixels.iter().flat_map(|c| c.into_storage().to_le_bytes()).collect()
+    }
+}
+
+impl RawPixels for Rgb565Be {
+    fn raw(pixels: &[Self], _: usize) -> Vec<u8> {
+        pixels.iter().flat_map(|c| c.0).collect()
+    }
+}
+
+impl RawPixels for Gray8 {
+    fn raw(pixels: &[Self], _: usize) -> Vec<u8> {
+        pixels.iter().map(|c| c.to_rgb888()[0]).collect()
+    }
+}
+
+impl RawPixels for BinaryColor {
+    fn raw(pixels: &[Self], width: usize) -> Vec<u8> {
+        let mut out = Vec::with_capacity(pixels.len().div_ceil(8));
+        for row in pixels.chunks(width) {
+            out.extend(
+                row.chunks(8)
+                    .map(|byte| byte.iter().enumerate().fold(0u8, |b, (i, c)| b | (u8::from(c.is_on()) << (7 - i)))),
+            );
+        }
+        out
+    }
+}
+
+/// The caller's depth memory for a frame, of the kind `--depth` asks for.
+enum Depth {
+    U16(Vec<u16>),
+    F32(Vec<f32>),
+    None,
+}
+
+/// One thread's share of a frame: its rows' colour and depth memory.
+enum DepthRows<'a> {
+    U16(&'a mut [u16]),
+    F32(&'a mut [f32]),
+    None,
+}
+
+impl Depth {
+    fn new(kind: DepthKind, pixels: usize) -> Self {
+        match kind {
+            DepthKind::U16 => Depth::U16(vec![0; pixels]),
+            DepthKind::F32 => Depth::F32(vec![0.0; pixels]),
+            DepthKind::None => Depth::None,
+        }
+    }
+
+    /// The depth memory in parts of `part` pixels (the last may be shorter), `parts` of them.
+    fn split(&mut self, part: usize, parts: usize) -> Vec<DepthRows<'_>> {
+        match self {
+            Depth::U16(z) => z.chunks_mut(part).map(DepthRows::U16).collect(),
+            Depth::F32(z) => z.chunks_mut(part).map(DepthRows::F32).collect(),
+            Depth::None => (0..parts).map(|_| DepthRows::None).collect(),
+        }
+    }
+}
+
+/// Renders one frame in pixel format `C`, its bands shared among the view's threads (each
+/// draws whole bands of its own rows, so the picture is the one a single thread draws); the
+/// raw bytes only when `raw`.
+fn render_frame<C: RawPixels>(
     model: &Model<'_>,
     view: &View,
     spin: f32,
-    depth: DepthKind,
-) -> Result<(Vec<[u8; 3]>, Stats)> {
+    (depth, raw): (DepthKind, bool),
+) -> Result<Frame> {
     let (w, h) = (view.width as usize, view.height as usize);
     let mut color = vec![C::default(); w * h];
-    let mut z16 = vec![0u16; w * h];
-    let mut zf = vec![0f32; w * h];
-    let rows_per_band = h.div_ceil(view.bands as usize);
+    let mut depth = Depth::new(depth, w * h);
+    let band_rows = h.div_ceil(view.bands as usize);
+    let bands = h.div_ceil(band_rows);
+    let thread_bands = bands.div_ceil(view.threads as usize);
+    let part = thread_bands * band_rows * w;
+    let parts = depth.split(part, (w * h).div_ceil(part));
     let transform = soft3d::testing::math::Mat4::from_rotation_y(spin);
+    let results: Vec<Result<Stats>> = std::thread::scope(|scope| {
+        let threads: Vec<_> = color
+            .chunks_mut(part)
+            .zip(parts)
+            .enumerate()
+            .map(|(k, rows)| {
+                let first_row = k * thread_bands * band_rows;
+                scope.spawn(move || draw_rows(rows, (first_row, band_rows), view, (model, transform)))
+            })
+            .collect();
+        threads.into_iter().map(|t| t.join().unwrap_or_else(|_| Err("a render thread panicked".into()))).collect()
+    });
+    let mut stats = Stats::default();
+    for s in results {
+        stats += s?;
+    }
+    let raw = if raw { C::raw(&color, w) } else { Vec::new() };
+    Ok(Frame { rgb: color.iter().map(|c| c.to_rgb888()).collect(), raw, stats })
+}
+
+/// Draws the rows from `first_row` on (their colour and depth memory), band by band: one
+/// thread's part of [`render_frame`].
+fn draw_rows<C: FrameColor>(
+    (color, depth): (&mut [C], DepthRows<'_>),
+    (first_row, band_rows): (usize, usize),
+    view: &View,
+    scene: (&Model<'_>, soft3d::testing::math::Mat4),
+) -> Result<Stats> {
+    let w = view.width as usize;
     // The back-to-front list, one entry a triangle, when the order needs it.
     let sorted = view.opts.order == DrawOrder::BackToFront;
-    let mut sort = vec![SortEntry::default(); if sorted { model.draw_counts().0 } else { 0 }];
+    let mut sort = vec![SortEntry::default(); if sorted { scene.0.draw_counts().0 } else { 0 }];
     let mut scratch = Scratch::none().with_sort(&mut sort);
-    let mut stats = Stats::default();
     let bg = C::from_rgb888(view.background);
-    for (k, band_color) in color.chunks_mut(rows_per_band * w).enumerate() {
-        let first_row = (k * rows_per_band) as u16;
-        let n = band_color.len();
-        let range = k * rows_per_band * w..k * rows_per_band * w + n;
-        let s = match depth {
-            DepthKind::U16 => {
-                draw_band((band_color, &mut z16[range]), view, first_row, (model, transform), bg, &mut scratch)?
+    let mut stats = Stats::default();
+    let band = band_rows * w;
+    let first = |k: usize| (first_row + k * band_rows) as u16;
+    match depth {
+        DepthRows::U16(z) => {
+            for (k, (c, z)) in color.chunks_mut(band).zip(z.chunks_mut(band)).enumerate() {
+                stats += draw_band((c, z), view, first(k), scene, bg, &mut scratch)?;
             }
-            DepthKind::F32 => {
-                draw_band((band_color, &mut zf[range]), view, first_row, (model, transform), bg, &mut scratch)?
+        }
+        DepthRows::F32(z) => {
+            for (k, (c, z)) in color.chunks_mut(band).zip(z.chunks_mut(band)).enumerate() {
+                stats += draw_band((c, z), view, first(k), scene, bg, &mut scratch)?;
             }
-            DepthKind::None => draw_band((band_color, NoDepth), view, first_row, (model, transform), bg, &mut scratch)?,
-        };
-        stats += s;
+        }
+        DepthRows::None => {
+            for (k, c) in color.chunks_mut(band).enumerate() {
+                stats += draw_band((c, NoDepth), view, first(k), scene, bg, &mut scratch)?;
+            }
+        }
     }
-    Ok((color.iter().map(|c| c.to_rgb888()).collect(), stats))
+    Ok(stats)
 }
 
 fn draw_band<C: FrameColor, D: DepthBuffer>(
@@ -568,21 +759,41 @@ fn draw_band<C: FrameColor, D: DepthBuffer>(
         .map_err(|e| format!("draw: {e}"))
 }
 
-fn render_any(model: &Model<'_>, view: &View, spin: f32, args: &RenderArgs) -> Result<(Vec<[u8; 3]>, Stats)> {
+fn render_any(model: &Model<'_>, view: &View, spin: f32, args: &RenderArgs, raw: bool) -> Result<Frame> {
+    let how = (args.depth, raw);
     match args.format {
-        PixelFormat::Rgb888 => render_frame::<Rgb888>(model, view, spin, args.depth),
-        PixelFormat::Rgb565 => render_frame::<Rgb565>(model, view, spin, args.depth),
-        PixelFormat::Gray8 => render_frame::<Gray8>(model, view, spin, args.depth),
-        PixelFormat::Mono => render_frame::<BinaryColor>(model, view, spin, args.depth),
+        PixelFormat::Rgb888 => render_frame::<Rgb888>(model, view, spin, how),
+        PixelFormat::Rgb565 => render_frame::<Rgb565>(model, view, spin, how),
+        PixelFormat::Rgb565Be => render_frame::<Rgb565Be>(model, view, spin, how),
+        PixelFormat::Gray8 => render_frame::<Gray8>(model, view, spin, how),
+        PixelFormat::Mono => render_frame::<BinaryColor>(model, view, spin, how),
+    }
+}
+
+/// What `-o` writes, by its extension.
+#[derive(Clone, Copy, PartialEq)]
+enum OutputKind {
+    Png,
+    Raw,
+    Gif,
+}
+
+fn output_kind(path: &Path) -> Result<OutputKind> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("png") => Ok(OutputKind::Png),
+        Some("raw" | "bin") => Ok(OutputKind::Raw),
+        Some("gif") => Ok(OutputKind::Gif),
+        _ => Err(format!(
+            "-o: name the output *.png (a PNG picture), *.raw or *.bin (the framebuffer's bytes) or *.gif (the turntable), got {:?}",
+            path.display()
+        )),
     }
 }
 
 fn cmd_render(args: &RenderArgs) -> Result<()> {
     // Checked before any work: a picture written under another format's name would mislead.
-    let png = args.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    if !png {
-        return Err(format!("-o: the picture is written as PNG: name it *.png, got {:?}", args.output.display()));
-    }
+    let kind = output_kind(&args.output)?;
     let mut conv = args.conv.clone();
     // Keep 8-bit texels when rendering to RGB888 so the output compares exactly with others.
     if args.format == PixelFormat::Rgb888
@@ -594,15 +805,29 @@ fn cmd_render(args: &RenderArgs) -> Result<()> {
     let bytes = load_scene(&args.input, &conv)?;
     let model = Model::parse(&bytes).map_err(|e| format!("{}: {e}", args.input.display()))?;
     let view = make_view(args, &model)?;
+    if kind == OutputKind::Gif {
+        return write_gif(&args.output, &model, &view, args);
+    }
     let start = std::time::Instant::now();
-    let (rgb, stats) = render_any(&model, &view, 0.0, args)?;
+    let frame = render_any(&model, &view, 0.0, args, kind == OutputKind::Raw)?;
     let elapsed = start.elapsed();
-    let png = encode_png(&rgb, view.width, view.height)?;
-    write_atomically(&args.output, &png)?;
+    let bytes = match kind {
+        OutputKind::Raw => frame.raw,
+        _ => encode_png(&frame.rgb, view.width, view.height)?,
+    };
+    write_atomically(&args.output, &bytes)?;
     let ms = elapsed.as_secs_f64() * 1e3;
+    let stats = frame.stats;
     match args.stats {
         StatsFormat::Text => {
-            println!("{}: {}x{} in {ms:.2} ms, {stats:?}", args.output.display(), view.width, view.height);
+            println!(
+                "{}: {}x{} in {ms:.2} ms ({} bands, {} threads), {stats:?}",
+                args.output.display(),
+                view.width,
+                view.height,
+                view.bands,
+                view.threads
+            );
         }
         StatsFormat::Json => println!("{}", stats_json(1, &view, (&model, &stats), ms)),
     }
@@ -628,6 +853,7 @@ fn stats_json(frame: u32, view: &View, (model, stats): (&Model<'_>, &Stats), ms:
         "width": view.width,
         "height": view.height,
         "bands": view.bands,
+        "threads": view.threads,
         "triangles": model.draw_counts().0,
         "drawn": stats.drawn,
         "pixels_written": stats.pixels_written,
@@ -650,11 +876,11 @@ fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &RenderArgs) -> 
         for f in 0..frames {
             let spin = f as f32 / frames as f32 * std::f32::consts::TAU;
             let start = std::time::Instant::now();
-            let (rgb, stats) = render_any(model, view, spin, args)?;
+            let frame = render_any(model, view, spin, args, false)?;
             if args.stats == StatsFormat::Json {
-                println!("{}", stats_json(f + 1, view, (model, &stats), start.elapsed().as_secs_f64() * 1e3));
+                println!("{}", stats_json(f + 1, view, (model, &frame.stats), start.elapsed().as_secs_f64() * 1e3));
             }
-            let rgba: Vec<u8> = rgb.iter().flat_map(|c| [c[0], c[1], c[2], 255]).collect();
+            let rgba: Vec<u8> = frame.rgb.iter().flat_map(|c| [c[0], c[1], c[2], 255]).collect();
             let img =
                 image::RgbaImage::from_raw(view.width as u32, view.height as u32, rgba).ok_or("image size mismatch")?;
             let frame = image::Frame::from_parts(img, 0, 0, image::Delay::from_numer_denom_ms(50, 1));

@@ -67,7 +67,11 @@ pub(crate) fn clip_position<const L: usize>(s: &DrawSetup<'_, L>, i: u32) -> Vec
 
 /// [`clip_position`] with the integer transform `t` and bounding sphere `sphere`.
 #[inline(always)]
-fn fixed_clip_position<const L: usize>(s: &DrawSetup<'_, L>, (t, sphere): &(FixedTransform, (Vec3, f32)), i: u32) -> Vec4 {
+fn fixed_clip_position<const L: usize>(
+    s: &DrawSetup<'_, L>,
+    (t, sphere): &(FixedTransform, (Vec3, f32)),
+    i: u32,
+) -> Vec4 {
     t.apply(s.arrays.position_int(i, *sphere))
 }
 
@@ -250,7 +254,11 @@ fn fill_light(cache: &mut [TransformedVertex], light: impl Fn(u32) -> VertexLigh
 
 /// [`fill_light`] with Gouraud light in integers, `at` giving a stored normal's light.
 #[inline(always)]
-fn fill_fixed_light<const L: usize>(s: &DrawSetup<'_, L>, cache: &mut [TransformedVertex], at: impl Fn([i16; 3]) -> [u16; 3]) {
+fn fill_fixed_light<const L: usize>(
+    s: &DrawSetup<'_, L>,
+    cache: &mut [TransformedVertex],
+    at: impl Fn([i16; 3]) -> [u16; 3],
+) {
     fill_light(cache, |i| {
         let [r, g, b] = at(s.arrays.normal_q(i));
         coloured_light(s, i, [r, g, b, 0])
