@@ -179,7 +179,7 @@ struct RenderArgs {
     /// Depth buffer (none: triangles drawn back to front, the painter's algorithm).
     #[arg(long, value_enum, default_value_t = DepthKind::U16)]
     depth: DepthKind,
-    /// Render in N horizontal bands, in 1..=the frame's height (default: one a thread).
+    /// Render in N horizontal bands, in 1..=the frame's height (default: four a thread).
     #[arg(long)]
     bands: Option<u16>,
     /// Threads drawing the bands (default: one a core); the picture is the same for every
@@ -561,7 +561,8 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
             return Err(format!("--bands: must be 1..={height} (the frame's height), got {b}"))
         }
         Some(b) => b,
-        None => threads.min(height),
+        // Four a thread: the busy rows of a scene spread over all of them.
+        None => threads.saturating_mul(4).min(height),
     };
     let background = parse_rgb(&args.background)?;
     Ok(View { camera, lights, opts, background, width, height, bands, threads: threads.min(bands) })
@@ -669,9 +670,17 @@ impl Depth {
     }
 }
 
-/// Renders one frame in pixel format `C`, its bands shared among the view's threads (each
-/// draws whole bands of its own rows, so the picture is the one a single thread draws); the
-/// raw bytes only when `raw`.
+/// One band of a frame: its first row, its colour and depth memory, and its pixels widened.
+struct BandRows<'a, C> {
+    first_row: u16,
+    color: &'a mut [C],
+    depth: DepthRows<'a>,
+    rgb: &'a mut [[u8; 3]],
+}
+
+/// Renders one frame in pixel format `C`, its bands dealt out among the view's threads in turn
+/// (band k to thread k mod n: a scene's busy rows are shared), each band drawn whole by one
+/// thread, so the picture is the one a single thread draws; the raw bytes only when `raw`.
 fn render_frame<C: RawPixels>(
     model: &Model<'_>,
     view: &View,
@@ -681,22 +690,20 @@ fn render_frame<C: RawPixels>(
     let (w, h) = (view.width as usize, view.height as usize);
     let mut color = vec![C::default(); w * h];
     let mut depth = Depth::new(depth, w * h);
+    let mut rgb = vec![[0u8; 3]; w * h];
     let band_rows = h.div_ceil(view.bands as usize);
-    let bands = h.div_ceil(band_rows);
-    let thread_bands = bands.div_ceil(view.threads as usize);
-    let part = thread_bands * band_rows * w;
-    let parts = depth.split(part, (w * h).div_ceil(part));
+    let band = band_rows * w;
+    let depth_parts = depth.split(band, h.div_ceil(band_rows));
+    let mut shares: Vec<Vec<BandRows<'_, C>>> = (0..view.threads).map(|_| Vec::new()).collect();
+    let bands = color.chunks_mut(band).zip(depth_parts).zip(rgb.chunks_mut(band));
+    for (k, ((color, depth), rgb)) in bands.enumerate() {
+        let first_row = (k * band_rows) as u16;
+        shares[k % view.threads as usize].push(BandRows { first_row, color, depth, rgb });
+    }
     let transform = soft3d::testing::math::Mat4::from_rotation_y(spin);
     let results: Vec<Result<Stats>> = std::thread::scope(|scope| {
-        let threads: Vec<_> = color
-            .chunks_mut(part)
-            .zip(parts)
-            .enumerate()
-            .map(|(k, rows)| {
-                let first_row = k * thread_bands * band_rows;
-                scope.spawn(move || draw_rows(rows, (first_row, band_rows), view, (model, transform)))
-            })
-            .collect();
+        let threads: Vec<_> =
+            shares.into_iter().map(|share| scope.spawn(move || draw_bands(share, view, (model, transform)))).collect();
         threads.into_iter().map(|t| t.join().unwrap_or_else(|_| Err("a render thread panicked".into()))).collect()
     });
     let mut stats = Stats::default();
@@ -704,41 +711,35 @@ fn render_frame<C: RawPixels>(
         stats += s?;
     }
     let raw = if raw { C::raw(&color, w) } else { Vec::new() };
-    Ok(Frame { rgb: color.iter().map(|c| c.to_rgb888()).collect(), raw, stats })
+    Ok(Frame { rgb, raw, stats })
 }
 
-/// Draws the rows from `first_row` on (their colour and depth memory), band by band: one
-/// thread's part of [`render_frame`].
-fn draw_rows<C: FrameColor>(
-    (color, depth): (&mut [C], DepthRows<'_>),
-    (first_row, band_rows): (usize, usize),
+/// Draws `bands` and widens their pixels: one thread's share of [`render_frame`].
+fn draw_bands<C: FrameColor>(
+    bands: Vec<BandRows<'_, C>>,
     view: &View,
     scene: (&Model<'_>, soft3d::testing::math::Mat4),
 ) -> Result<Stats> {
-    let w = view.width as usize;
-    // The back-to-front list, one entry a triangle, when the order needs it.
+    // The back-to-front list, one entry a triangle, when the order needs it; otherwise each
+    // triangle's rows and each transformed vertex, so that the thread's bands after its first
+    // skip the triangles that miss them and transform no vertex again.
+    let (triangles, vertices) = scene.0.draw_counts();
     let sorted = view.opts.order == DrawOrder::BackToFront;
-    let mut sort = vec![SortEntry::default(); if sorted { scene.0.draw_counts().0 } else { 0 }];
-    let mut scratch = Scratch::none().with_sort(&mut sort);
+    let mut sort = vec![SortEntry::default(); if sorted { triangles } else { 0 }];
+    let mut rows = vec![soft3d::TriangleRows::default(); if sorted { 0 } else { triangles }];
+    let mut cache = vec![soft3d::TransformedVertex::default(); if sorted { 0 } else { vertices }];
+    let mut scratch = Scratch::none().with_sort(&mut sort).with_rows(&mut rows).with_vertices(&mut cache);
     let bg = C::from_rgb888(view.background);
     let mut stats = Stats::default();
-    let band = band_rows * w;
-    let first = |k: usize| (first_row + k * band_rows) as u16;
-    match depth {
-        DepthRows::U16(z) => {
-            for (k, (c, z)) in color.chunks_mut(band).zip(z.chunks_mut(band)).enumerate() {
-                stats += draw_band((c, z), view, first(k), scene, bg, &mut scratch)?;
-            }
-        }
-        DepthRows::F32(z) => {
-            for (k, (c, z)) in color.chunks_mut(band).zip(z.chunks_mut(band)).enumerate() {
-                stats += draw_band((c, z), view, first(k), scene, bg, &mut scratch)?;
-            }
-        }
-        DepthRows::None => {
-            for (k, c) in color.chunks_mut(band).enumerate() {
-                stats += draw_band((c, NoDepth), view, first(k), scene, bg, &mut scratch)?;
-            }
+    for b in bands {
+        let at = b.first_row;
+        stats += match b.depth {
+            DepthRows::U16(z) => draw_band((&mut *b.color, z), view, at, scene, bg, &mut scratch)?,
+            DepthRows::F32(z) => draw_band((&mut *b.color, z), view, at, scene, bg, &mut scratch)?,
+            DepthRows::None => draw_band((&mut *b.color, NoDepth), view, at, scene, bg, &mut scratch)?,
+        };
+        for (out, c) in b.rgb.iter_mut().zip(b.color.iter()) {
+            *out = c.to_rgb888();
         }
     }
     Ok(stats)
