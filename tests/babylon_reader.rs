@@ -310,6 +310,40 @@ fn transform_nodes_and_geometries_are_followed() {
     assert_eq!(&scene.meshes[0].world[12..15], &[1., 5., 0.]);
 }
 
+/// Parents are found as Babylon.js's loader finds them: cameras and lights too, by `id`,
+/// then `name`; a numeric `parentId` by `uniqueId`.
+#[test]
+fn parents_can_be_cameras_lights_and_unique_ids() {
+    let json = r#"{
+        "geometries": {"vertexData": [{"id": "g", "positions": [0,0,0, 1,0,0, 0,1,0], "indices": [0,1,2]}]},
+        "cameras": [{"name": "cam", "id": "c1", "uniqueId": 7, "position": [0, 0, -10], "target": [0, 0, 0]},
+                    {"name": "side", "id": "c2", "position": [10, 0, 0], "target": [0, 0, 0]}],
+        "lights": [{"name": "lamp", "id": "l1", "uniqueId": 9, "type": 0, "position": [3, 4, 5]}],
+        "transformNodes": [{"name": "car", "id": "t", "uniqueId": 12, "position": [0, 2, 0]}],
+        "meshes": [
+            {"name": "on-camera", "geometryId": "g", "position": [0, 0, 1], "parentId": "c1"},
+            {"name": "on-camera-by-unique-id", "geometryId": "g", "position": [0, 0, 1], "parentId": 7},
+            {"name": "on-turned-camera", "geometryId": "g", "position": [0, 0, 1], "parentId": "c2"},
+            {"name": "on-light-by-name", "geometryId": "g", "position": [1, 0, 0], "parentId": "lamp"},
+            {"name": "wheel", "geometryId": "g", "position": [1, 0, 0], "parentId": 12}
+        ],
+        "activeCameraID": "c1"}"#;
+    let (scene, warnings) = read_text(json).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let at = |name: &str| point(&mesh(&scene, name).world, [0., 0., 0.]);
+    assert_close(&at("on-camera"), &[0., 0., -9.], 1e-5, "on-camera");
+    assert_close(&at("on-camera-by-unique-id"), &[0., 0., -9.], 1e-5, "by uniqueId");
+    // A camera at +x looking at the origin looks along -x: one unit ahead is x = 9.
+    assert_close(&at("on-turned-camera"), &[9., 0., 0.], 1e-5, "turned camera");
+    assert_close(&at("on-light-by-name"), &[4., 4., 5.], 1e-5, "light");
+    assert_close(&at("wheel"), &[1., 2., 0.], 1e-5, "transform node by uniqueId");
+    // A parent that matches nothing is still said, once.
+    let (_, warnings) =
+        read_text(r#"{"meshes":[{"name":"M","positions":[0,0,0,1,0,0,0,1,0],"parentId":99}]}"#).unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].0.contains("parent \"99\" not found"), "{warnings:?}");
+}
+
 fn error_of(json: &str) -> String {
     match read_text(json) {
         Ok(_) => panic!("accepted: {json}"),

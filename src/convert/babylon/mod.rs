@@ -195,7 +195,10 @@ struct Reader<'a> {
     mat_cache: HashMap<String, Option<MatSlot>>,
     tex_cache: HashMap<(String, bool), Option<u16>>,
     nodes: Vec<Node<'a>>,
+    /// Nodes by `id`, `name` and `uniqueId` (see `node`).
     ids: HashMap<String, usize>,
+    names: HashMap<String, usize>,
+    unique_ids: HashMap<String, usize>,
     scene: Scene,
     warnings: Vec<Warning>,
     /// The first textured mesh in the 2013 layout read with the UV origin at the bottom (see
@@ -229,6 +232,8 @@ impl<'a> Reader<'a> {
             tex_cache: HashMap::new(),
             nodes: Vec::new(),
             ids: HashMap::new(),
+            names: HashMap::new(),
+            unique_ids: HashMap::new(),
             scene: Scene::default(),
             warnings: Vec::new(),
             legacy_uvs: None,
@@ -241,7 +246,10 @@ impl<'a> Reader<'a> {
         Ctx { file: self.file, what: what.into() }
     }
 
+    /// Records `message` once (a node read as a parent and as itself would say it twice).
     fn warn(&mut self, message: String) {
-        self.warnings.push(Warning(message));
+        if self.warnings.iter().all(|w| w.0 != message) {
+            self.warnings.push(Warning(message));
+        }
     }
 }

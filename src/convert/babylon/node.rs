@@ -1,6 +1,13 @@
-//! The node hierarchy: meshes and transform nodes with their local matrices, `parentId` links
-//! and world matrices (`World = Local · World(parent)`, computed once per node, iteratively so
-//! deep hierarchies are fine, with cycles reported as errors).
+//! The node hierarchy: meshes, transform nodes, cameras and lights with their local matrices,
+//! `parentId` links and world matrices (`World = Local · World(parent)`, computed once per
+//! node, iteratively so deep hierarchies are fine, with cycles reported as errors).
+//!
+//! A `parentId` names its parent as Babylon.js's loader finds it: a number is a node's
+//! `uniqueId` (what the serializer writes), a string a node's `id` (meshes first, then
+//! transform nodes, cameras and lights), and where no `id` matches, a node's `name`. A camera
+//! as a parent places its children as Babylon.js's `getWorldMatrix` does: turned to look at its
+//! target (up +y) when it has one, else by its `rotation`, and moved to its position; a light
+//! moves them to its position.
 //!
 //! How a local matrix is built from a node's fields is `transform`'s job; what is drawn from a
 //! mesh node is `mesh`'s.
@@ -12,7 +19,7 @@ use std::vec::Vec;
 
 use serde_json::Value;
 
-use super::fields::{floats, label, list, show, text};
+use super::fields::{floats, get, label, list, show, text, vector, Res};
 use super::transform::{mul, Trs};
 use super::{ConvertError, Reader};
 use crate::convert::scene::{Matrix, IDENTITY};
@@ -30,7 +37,7 @@ pub(super) struct Node<'v> {
     pub(super) is_mesh: bool,
 }
 
-impl Reader<'_> {
+impl<'a> Reader<'a> {
     /// Collects meshes and transform nodes with their local matrices and parents.
     pub(super) fn read_nodes(&mut self) -> Result<(), ConvertError> {
         let root = self.root;
@@ -50,11 +57,19 @@ impl Reader<'_> {
                         self.warn(format!("{}: pivotMatrix is not supported and was ignored", cx.what));
                     }
                 }
-                if let Some(id) = text(obj, "id").map_err(|m| cx.err(m))? {
-                    self.ids.entry(id).or_insert(self.nodes.len());
-                }
                 let local = animated.matrix();
-                self.nodes.push(Node { obj, what: cx.what, trs, local, parent: None, world: None, is_mesh });
+                self.add_node(Node { obj, what: cx.what, trs, local, parent: None, world: None, is_mesh })?;
+            }
+        }
+        // Cameras and lights, as parents of others (they are read as such by `camera` and
+        // `light`).
+        for (array, kind) in [("cameras", "camera"), ("lights", "light")] {
+            for (i, obj) in list(root, array).map_err(|m| self.ctx("scene").err(m))?.iter().enumerate() {
+                let cx = self.ctx(label(obj, kind, array, i));
+                let local =
+                    if kind == "camera" { camera_matrix(obj) } else { light_matrix(obj) }.map_err(|m| cx.err(m))?;
+                let trs = Trs::IDENTITY;
+                self.add_node(Node { obj, what: cx.what, trs, local, parent: None, world: None, is_mesh: false })?;
             }
         }
         for i in 0..self.nodes.len() {
@@ -65,12 +80,29 @@ impl Reader<'_> {
         Ok(())
     }
 
-    /// The node named by `obj`'s `parentId`; an unknown parent is warned about and ignored.
+    /// Indexes `node` by its `id`, `name` and `uniqueId` (the first node of each wins), and
+    /// appends it.
+    fn add_node(&mut self, node: Node<'a>) -> Result<(), ConvertError> {
+        let (obj, n) = (node.obj, self.nodes.len());
+        let cx = self.ctx(node.what.clone());
+        for (key, map) in [("id", &mut self.ids), ("name", &mut self.names), ("uniqueId", &mut self.unique_ids)] {
+            if let Some(value) = text(obj, key).map_err(|m| cx.err(m))? {
+                map.entry(value).or_insert(n);
+            }
+        }
+        self.nodes.push(node);
+        Ok(())
+    }
+
+    /// The node named by `obj`'s `parentId` (see the module documentation); an unknown parent
+    /// is warned about and ignored.
     pub(super) fn parent(&mut self, obj: &Value, what: &str) -> Result<Option<usize>, ConvertError> {
         let Some(id) = text(obj, "parentId").map_err(|m| self.ctx(what).err(m))? else {
             return Ok(None);
         };
-        let found = self.ids.get(&id).copied();
+        let numeric = get(obj, "parentId").is_some_and(Value::is_number);
+        let by_unique = numeric.then(|| self.unique_ids.get(&id).copied()).flatten();
+        let found = by_unique.or_else(|| self.ids.get(&id).copied()).or_else(|| self.names.get(&id).copied());
         if found.is_none() {
             self.warn(format!("{what}: parent {id:?} not found, treated as a root"));
         }
@@ -108,4 +140,44 @@ impl Reader<'_> {
     pub(super) fn parent_world(&mut self, parent: Option<usize>) -> Result<Matrix, ConvertError> {
         parent.map_or(Ok(IDENTITY), |p| self.world(p))
     }
+}
+
+/// A camera's matrix as a parent (see the module documentation).
+fn camera_matrix(obj: &Value) -> Res<Matrix> {
+    let trs = Trs::read(obj, Trs::IDENTITY)?;
+    let position = vector(obj, "position")?.unwrap_or([0.; 3]);
+    let arc = text(obj, "type")?.as_deref() == Some("ArcRotateCamera");
+    let target = vector(obj, "target")?.or(arc.then_some([0.; 3]));
+    let looking = target.and_then(|t| look_at_matrix(position, t));
+    Ok(looking.unwrap_or_else(|| {
+        let mut m = trs.rotation_matrix();
+        m[12..15].copy_from_slice(&position);
+        m
+    }))
+}
+
+/// A light's matrix as a parent: a move to its position (none for directional and hemispheric
+/// lights, which have none).
+fn light_matrix(obj: &Value) -> Res<Matrix> {
+    let mut m = IDENTITY;
+    if let Some(p) = vector::<3>(obj, "position")? {
+        m[12..15].copy_from_slice(&p);
+    }
+    Ok(m)
+}
+
+/// The world matrix of a camera at `eye` looking at `target` with up +y (the inverse of
+/// `LookAtLH`): rows x, y, z (the view direction) and the position; `None` when degenerate.
+fn look_at_matrix(eye: [f32; 3], target: [f32; 3]) -> Option<Matrix> {
+    let sub = |a: [f32; 3], b: [f32; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let cross =
+        |a: [f32; 3], b: [f32; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let unit = |a: [f32; 3]| {
+        let n = libm::sqrtf(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        (n > 1e-12 && n.is_finite()).then(|| a.map(|c| c / n))
+    };
+    let z = unit(sub(target, eye))?;
+    let x = unit(cross([0., 1., 0.], z))?;
+    let y = cross(z, x);
+    Some([x[0], x[1], x[2], 0., y[0], y[1], y[2], 0., z[0], z[1], z[2], 0., eye[0], eye[1], eye[2], 1.])
 }
