@@ -135,6 +135,43 @@ fn missing_textures_are_warnings_and_keep_the_diffuse_colour() {
     assert!(text.iter().any(|w| w.contains("\"Metal1.png\" not found")), "{text:?}");
 }
 
+/// A texture named relative to another folder than the scene's is found by its bare name
+/// next to the scene, then in the folder above, with a warning naming where it looked.
+#[test]
+fn texture_paths_fall_back_to_the_bare_file_name() {
+    let root = std::env::temp_dir().join(format!("soft3d-texture-paths-{}", std::process::id()));
+    let models = root.join("models");
+    std::fs::create_dir_all(&models).unwrap();
+    let png = |path: &Path| image::RgbaImage::from_pixel(2, 2, image::Rgba([255, 0, 0, 255])).save(path).unwrap();
+    png(&models.join("drone.png"));
+    png(&root.join("shared.png"));
+    let scene = |texture: &str| {
+        format!(
+            r#"{{"materials":[{{"id":"m","diffuseTexture":{{"name":"{texture}"}}}}],
+            "meshes":[{{"name":"M","materialId":"m","positions":[0,0,0,1,0,0,0,1,0],"uvs":[0,0,1,0,0,1]}}]}}"#
+        )
+    };
+    let read_in_models = |texture: &str| {
+        let json = scene(texture);
+        read_babylon(json.as_bytes(), Some(&models), "scene.babylon", &ConvertOptions::default()).unwrap()
+    };
+    let (found, warnings) = read_in_models("./models/drone.png");
+    assert_eq!(found.textures.len(), 1);
+    let text: Vec<String> = warnings.iter().map(ToString::to_string).collect();
+    let tried = models.join("./models/drone.png").display().to_string();
+    let used = models.join("drone.png").display().to_string();
+    assert!(text.len() == 1 && text[0].contains(&format!("not found at {tried}: {used} used")), "{text:?}");
+    // A Windows separator (an escaped backslash in the JSON).
+    let (found, warnings) = read_in_models("textures\\\\shared.png");
+    assert_eq!(found.textures.len(), 1);
+    assert!(warnings[0].0.contains(&format!("{} used", root.join("shared.png").display())), "{warnings:?}");
+    let (found, warnings) = read_in_models("nowhere/missing.png");
+    assert!(found.textures.is_empty());
+    let missing = root.join("missing.png").display().to_string();
+    assert!(warnings[0].0.contains("not found (tried") && warnings[0].0.contains(&missing), "{warnings:?}");
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
 #[test]
 fn legacy_and_split_blender_scenes_have_the_same_geometry() {
     let (legacy, _) = read("blender-legacy/blender.babylon");

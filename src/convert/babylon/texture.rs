@@ -1,12 +1,17 @@
 //! Texture images: a material's texture read once per name (and alpha rule) from its file
-//! next to the scene, its `base64String` or a `data:` URL name; decoded by content (TGA by
-//! name), resized to the [`ConvertOptions`] limits and stored in `Scene::textures` as RGBA8.
-//! A texture that cannot be loaded is a warning, not an error.
+//! (its name taken relative to the scene's folder, as Babylon.js takes it relative to the
+//! scene's URL; where that fails, its bare file name next to the scene, then in the folder
+//! above, with a warning naming what was tried and what was used), its `base64String` or a
+//! `data:` URL name; decoded by content (TGA by name), resized to the [`ConvertOptions`]
+//! limits and stored in `Scene::textures` as RGBA8. A texture that cannot be loaded is a
+//! warning, not an error.
 //!
 //! Which material uses a texture, and its wrap modes and UV mapping, are `material`'s job.
 
 use std::format;
 use std::string::String;
+use std::string::ToString;
+use std::vec;
 use std::vec::Vec;
 
 use base64::engine::{DecodePaddingMode, GeneralPurpose, GeneralPurposeConfig};
@@ -32,7 +37,12 @@ impl Reader<'_> {
             return Ok(index);
         }
         let index = match self.load_image(&name, base64.as_deref()) {
-            Ok(image) => Some(self.push_texture(name.clone(), image, keep_alpha, cx)?),
+            Ok((image, fallback)) => {
+                if let Some(note) = fallback {
+                    self.warn(format!("{}: texture {name:?} {note}", cx.what));
+                }
+                Some(self.push_texture(name.clone(), image, keep_alpha, cx)?)
+            }
             Err(why) => {
                 let shown: String = name.chars().take(60).collect();
                 self.warn(format!("{}: texture {shown:?} {why}, using the diffuse colour", cx.what));
@@ -43,29 +53,57 @@ impl Reader<'_> {
         Ok(index)
     }
 
-    fn load_image(&self, name: &str, base64: Option<&str>) -> Result<image::RgbaImage, String> {
-        let bytes = match base64.or_else(|| name.starts_with("data:").then_some(name)) {
-            Some(b64) => decode_base64(b64).map_err(|e| format!("has invalid base64 data ({e})"))?,
-            None => {
-                let dir = self.base_dir.ok_or("not found (no directory to look in)")?;
-                let path = dir.join(name);
-                std::fs::read(&path).map_err(|e| format!("not found ({}: {e})", path.display()))?
-            }
+    /// The texture's image, and how it was found when not where its name says.
+    fn load_image(&self, name: &str, base64: Option<&str>) -> Result<(image::RgbaImage, Option<String>), String> {
+        let (bytes, fallback) = match base64.or_else(|| name.starts_with("data:").then_some(name)) {
+            Some(b64) => (decode_base64(b64).map_err(|e| format!("has invalid base64 data ({e})"))?, None),
+            None => self.read_texture_file(name)?,
         };
-        // The content decides (embedded JPEG names hide PNGs); TGA has no signature: use the name.
-        let mut formats: Vec<image::ImageFormat> = image::guess_format(&bytes).into_iter().collect();
-        formats.extend(image::ImageFormat::from_path(name).ok().filter(|f| !formats.contains(f)));
-        let mut why = String::from("is in an unknown image format");
-        for format in formats {
-            match image::load_from_memory_with_format(&bytes, format) {
-                Ok(img) if img.width() > 0 && img.height() > 0 => return Ok(img.into_rgba8()),
-                Ok(_) => why = "is empty".into(),
-                Err(e) => why = format!("could not be decoded ({e})"),
-            }
-        }
-        Err(why)
+        decode(&bytes, name).map(|image| (image, fallback))
     }
 
+    /// The bytes of texture file `name` (see the module documentation), and a note of the
+    /// places tried when it was found by its bare name.
+    fn read_texture_file(&self, name: &str) -> Result<(Vec<u8>, Option<String>), String> {
+        let dir = self.base_dir.ok_or("not found (no directory to look in)")?;
+        let named = dir.join(name);
+        let mut tried = vec![named.clone()];
+        // Exporters write Windows separators too; the bare name is what follows the last one.
+        if let Some(bare) = name.rsplit(['/', '\\']).next().filter(|b| !b.is_empty() && *b != "." && *b != "..") {
+            tried.push(dir.join(bare));
+            tried.extend(dir.parent().map(|up| up.join(bare)));
+        }
+        tried.dedup();
+        let shown =
+            |paths: &[std::path::PathBuf]| paths.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ");
+        for (k, path) in tried.iter().enumerate() {
+            if let Ok(bytes) = std::fs::read(path) {
+                let note = (k > 0).then(|| format!("not found at {}: {} used", shown(&tried[..k]), path.display()));
+                return Ok((bytes, note));
+            }
+        }
+        let why = std::fs::read(&named).err().map_or_else(String::new, |e| format!(": {e}"));
+        Err(format!("not found (tried {}{why})", shown(&tried)))
+    }
+}
+
+/// Decodes texture `name`'s `bytes`: the content decides (embedded JPEG names hide PNGs); TGA
+/// has no signature: the name does.
+fn decode(bytes: &[u8], name: &str) -> Result<image::RgbaImage, String> {
+    let mut formats: Vec<image::ImageFormat> = image::guess_format(bytes).into_iter().collect();
+    formats.extend(image::ImageFormat::from_path(name).ok().filter(|f| !formats.contains(f)));
+    let mut why = String::from("is in an unknown image format");
+    for format in formats {
+        match image::load_from_memory_with_format(bytes, format) {
+            Ok(img) if img.width() > 0 && img.height() > 0 => return Ok(img.into_rgba8()),
+            Ok(_) => why = "is empty".into(),
+            Err(e) => why = format!("could not be decoded ({e})"),
+        }
+    }
+    Err(why)
+}
+
+impl Reader<'_> {
     fn push_texture(
         &mut self,
         name: String,
