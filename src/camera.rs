@@ -147,6 +147,65 @@ impl Camera {
         Self::perspective(eye, centre, fov_y, aspect, distance * 0.01, distance + radius * 2.0)
     }
 
+    /// A perspective camera looking along `direction` (with `up` up on screen) from as close
+    /// as it can while every vertex of `model` (meshes and instances) is in view: the model's
+    /// projected bounds fill `fill` (in (0, 1], e.g. 0.95) of the frame's limiting dimension,
+    /// centred, and the near and far planes hug its depth (1% to spare). The bounding sphere
+    /// of [`Camera::framing`] leaves most models at a third of the frame; this fits their
+    /// vertices.
+    ///
+    /// # Errors
+    /// [`CameraError::BadLookAt`] when the model has no vertices or `direction` is zero or
+    /// parallel to `up`; [`CameraError::BadProjection`] for an out-of-range field of view,
+    /// aspect or `fill`.
+    pub fn fit(
+        model: &Model<'_>,
+        (direction, up): (Vec3, Vec3),
+        fov_y: f32,
+        aspect: f32,
+        fill: f32,
+    ) -> Result<Self, CameraError> {
+        let fov_ok = fov_y > 0.0 && fov_y < core::f32::consts::PI && aspect > 0.0 && aspect.is_finite();
+        if !(fov_ok && fill > 0.0 && fill <= 1.0) {
+            return Err(CameraError::BadProjection);
+        }
+        let z = crate::math::normalize_or_zero(direction);
+        let x = crate::math::normalize_or_zero(up.cross(z));
+        if z == Vec3::ZERO || x == Vec3::ZERO || !(z.is_finite() && x.is_finite()) {
+            return Err(CameraError::BadLookAt);
+        }
+        let y = z.cross(x);
+        // The half-extents' slopes, narrowed so that the model fills `fill` of them.
+        let ty = crate::math::sin(fov_y * 0.5) / crate::math::cos(fov_y * 0.5) * fill;
+        let tx = ty * aspect;
+        // Every vertex `p` (in the camera's axes) must satisfy |p.y - e.y| <= ty (p.z - e.z)
+        // and the same along x: the closest eye has e.z = (a + b) / 2t and e.y = (b - a) / 2,
+        // with a = min(t p.z - p.y) and b = min(t p.z + p.y) over the vertices.
+        let mut bounds = [f32::INFINITY; 6]; // min of tx z - x, tx z + x, ty z - y, ty z + y, z; -max z
+        for (mesh, world) in model.draws() {
+            let to_world = world * mesh.dequantize();
+            for i in 0..mesh.vertex_count() {
+                let p = to_world.transform_point3(mesh.position_stored(i));
+                let (px, py, pz) = (p.dot(x), p.dot(y), p.dot(z));
+                let values = [tx * pz - px, tx * pz + px, ty * pz - py, ty * pz + py, pz, -pz];
+                for (b, v) in bounds.iter_mut().zip(values) {
+                    *b = b.min(v);
+                }
+            }
+        }
+        let [ax, bx, ay, by, nearest, minus_farthest] = bounds;
+        if !bounds.iter().all(|b| b.is_finite()) {
+            return Err(CameraError::BadLookAt);
+        }
+        let ez = ((ax + bx) / (2.0 * tx)).min((ay + by) / (2.0 * ty));
+        let eye = x * ((bx - ax) / 2.0) + y * ((by - ay) / 2.0) + z * ez;
+        let (near, far) = ((nearest - ez) * 0.99, (-minus_farthest - ez) * 1.01);
+        let far = far.max(1e-6);
+        let near = if near > far * 1e-4 { near } else { far * 1e-4 };
+        let target = eye + z * ((near + far) * 0.5);
+        Self::perspective_up((eye, target, up), fov_y, aspect, near, far)
+    }
+
     /// `projection · view`: world to clip space.
     #[must_use]
     pub fn view_projection(&self) -> Mat4 {
@@ -181,5 +240,34 @@ mod tests {
         for up in [Vec3::Y, Vec3::ZERO, Vec3::NAN] {
             assert_eq!(Camera::perspective_up((eye, target, up), 0.8, 1.0, 0.1, 100.0), Err(CameraError::BadLookAt));
         }
+    }
+
+    /// A fitted camera sees every vertex, and the model fills the asked-for share of the
+    /// frame's limiting dimension, from any direction.
+    #[cfg(feature = "convert")]
+    #[test]
+    fn a_fitted_camera_fills_the_frame_with_the_whole_model() {
+        let bytes = crate::convert::emit(&crate::convert::Scene::cube(), &Default::default()).unwrap();
+        let model = Model::parse(&bytes).unwrap();
+        for (direction, aspect) in [(Vec3::Z, 1.0), (Vec3::new(1.0, -0.7, 0.4), 4.0 / 3.0), (Vec3::NEG_X, 0.5)] {
+            let camera = Camera::fit(&model, (direction, Vec3::Y), 0.8, aspect, 0.95).unwrap();
+            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+            for (mesh, world) in model.draws() {
+                for i in 0..mesh.vertex_count() {
+                    let p = (world * mesh.dequantize()).transform_point3(mesh.position_stored(i));
+                    let ndc = camera.view_projection().project_point3(p);
+                    (lo, hi) = (lo.min(ndc), hi.max(ndc));
+                }
+            }
+            let within = |v: f32| (-1.0..=1.0).contains(&v);
+            assert!([lo.x, lo.y, lo.z, hi.x, hi.y, hi.z].into_iter().all(within), "{direction}: {lo} {hi}");
+            let filled = ((hi.x - lo.x) / 2.0).max((hi.y - lo.y) / 2.0);
+            assert!((filled - 0.95).abs() < 1e-3, "{direction}: fills {filled}");
+            // Centred along the limiting dimension.
+            let centre = if hi.x - lo.x > hi.y - lo.y { lo.x + hi.x } else { lo.y + hi.y };
+            assert!(centre.abs() < 1e-3, "{direction}: centre {centre}");
+        }
+        assert_eq!(Camera::fit(&model, (Vec3::Y, Vec3::Y), 0.8, 1.0, 0.95), Err(CameraError::BadLookAt));
+        assert_eq!(Camera::fit(&model, (Vec3::Z, Vec3::Y), 0.8, 1.0, 0.0), Err(CameraError::BadProjection));
     }
 }

@@ -406,3 +406,28 @@ fn an_orthographic_camera_shows_the_same_size_at_any_distance() {
     let (out, _) = render_scene("ortho-bad", &json, &["--camera", "ortho", "--ortho-height", "-1"]);
     assert_refused(&out, &["--ortho-height", "finite size above 0"]);
 }
+
+/// The rows and columns holding drawn (not black) pixels: their counts.
+fn drawn_extent(picture: &image::RgbImage) -> (u32, u32) {
+    let lit: Vec<(u32, u32)> =
+        picture.enumerate_pixels().filter(|(_, _, p)| p.0 != [0, 0, 0]).map(|(x, y, _)| (x, y)).collect();
+    let span = |v: Vec<u32>| v.iter().max().zip(v.iter().min()).map_or(0, |(hi, lo)| hi - lo + 1);
+    (span(lit.iter().map(|p| p.0).collect()), span(lit.iter().map(|p| p.1).collect()))
+}
+
+#[test]
+fn a_scene_without_a_camera_and_fit_fill_the_frame() {
+    let square = r#"{"meshes":[{"name":"s","id":"s","positions":[-10,-10,0,10,-10,0,10,10,0,-10,10,0],
+        "indices":[0,1,2,0,2,3],"normals":[0,0,-1,0,0,-1,0,0,-1,0,0,-1]}]}"#;
+    let far_camera = square_with(r#"{"id":"c","name":"c","position":[0,0,-400],"target":[0,0,0],"maxZ":1000}"#);
+    for (test, json, args) in [("no-camera", square, &[][..]), ("fit", &far_camera, &["--fit"][..])] {
+        let (out, picture) = render_scene(test, json, args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        // 48 rows is the limiting dimension of 64x48: at least 90% of it.
+        let (columns, rows) = drawn_extent(&picture.unwrap());
+        assert!(rows >= 44 && rows <= 48 && columns <= 64, "{test}: {columns}x{rows}");
+    }
+    // Without --fit the far camera sees the square small.
+    let (_, picture) = render_scene("far", &far_camera, &[]);
+    assert!(drawn_extent(&picture.unwrap()).1 < 10);
+}

@@ -157,6 +157,11 @@ struct RenderArgs {
     /// not read): for a camera looking straight up or down, or a tilted horizon.
     #[arg(long, allow_hyphen_values = true)]
     up: Option<String>,
+    /// Move the camera along its view direction (and sideways) until the whole model fills 95%
+    /// of the frame's height or width, with near and far fitted to it: what a scene without a
+    /// camera gets.
+    #[arg(long)]
+    fit: bool,
     /// The projection.
     #[arg(long, value_enum, default_value_t = CameraKind::Perspective)]
     camera: CameraKind,
@@ -437,6 +442,9 @@ struct View {
     threads: u16,
 }
 
+/// How much of the frame's limiting dimension a fitted model fills (see `--fit`).
+const FIT_FILL: f32 = 0.95;
+
 /// Near and far planes for an eye at `eye` that take in the whole of `model` (its bounding
 /// sphere, with 1% to spare): what `--eye` and `--target` get unless `--near` and `--far` are
 /// given.
@@ -505,16 +513,24 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     };
     let eye = args.eye.as_deref().map(|s| parse_vec3(s, "--eye")).transpose()?.unwrap_or(default_eye);
     let target = args.target.as_deref().map(|s| parse_vec3(s, "--target")).transpose()?.unwrap_or(default_target);
+    let up = args.up.as_deref().map(|s| parse_vec3(s, "--up")).transpose()?.unwrap_or(Vec3::Y);
+    let moved = args.eye.is_some() || args.target.is_some();
+    // `--fit`, or a scene without a camera of its own: closer, along the same direction.
+    let fitted = (args.fit || (scene_cam.is_none() && !moved))
+        .then(|| Camera::fit(model, (target - eye, up), fov, aspect, FIT_FILL))
+        .transpose()
+        .map_err(|e| camera_error(e, (eye, target, up)))?;
+    let (eye, target) = fitted.map_or((eye, target), |c| (c.eye, c.target));
     // A camera the user moved sees the model from elsewhere: its planes are fitted to it.
-    let (default_near, default_far) = match (&scene_cam, args.eye.is_some() || args.target.is_some()) {
-        (_, true) => fitted_planes(eye, model),
-        (Some(c), false) => (c.near, c.far),
-        (None, false) => (framing.near, framing.far),
+    let (default_near, default_far) = match (&fitted, &scene_cam, moved) {
+        (Some(c), _, _) => (c.near, c.far),
+        (None, _, true) => fitted_planes(eye, model),
+        (None, Some(c), false) => (c.near, c.far),
+        (None, None, false) => (framing.near, framing.far),
     };
     let far = args.far.unwrap_or(default_far);
     // A near plane beyond the user's far plane would leave nothing: theirs decides.
     let near = args.near.unwrap_or(if default_near < far { default_near } else { far * 1e-3 });
-    let up = args.up.as_deref().map(|s| parse_vec3(s, "--up")).transpose()?.unwrap_or(Vec3::Y);
     let camera = match args.camera {
         CameraKind::Perspective => Camera::perspective_up((eye, target, up), fov, aspect, near, far),
         CameraKind::Ortho => {
