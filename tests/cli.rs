@@ -425,7 +425,7 @@ fn a_scene_without_a_camera_and_fit_fill_the_frame() {
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         // 48 rows is the limiting dimension of 64x48: at least 90% of it.
         let (columns, rows) = drawn_extent(&picture.unwrap());
-        assert!(rows >= 44 && rows <= 48 && columns <= 64, "{test}: {columns}x{rows}");
+        assert!((44..=48).contains(&rows) && columns <= 64, "{test}: {columns}x{rows}");
     }
     // Without --fit the far camera sees the square small.
     let (_, picture) = render_scene("far", &far_camera, &[]);
