@@ -38,7 +38,8 @@
 //! [`ConvertOptions`], [`UvOrigin`], [`Warning`], [`ConvertError`]) and the reader's state; the
 //! work is split by concern into `fields` (JSON field access), `transform` (matrices, rotations,
 //! animation), `node` (hierarchy), `geometry` (where vertex data lives), `mesh` (meshes,
-//! sub-meshes, instances), `material`, `texture`, `light` and `camera`. Writing the result as
+//! sub-meshes, instances), `material`, `texture`, `light`, `camera` and `unsupported` (a warning
+//! for each feature the file has and soft3d does not draw). Writing the result as
 //! `.s3d` is not its job (that is `convert::emit`).
 
 mod camera;
@@ -50,6 +51,7 @@ mod mesh;
 mod node;
 mod texture;
 mod transform;
+mod unsupported;
 
 use std::borrow::ToOwned;
 use std::collections::HashMap;
@@ -170,6 +172,7 @@ pub fn read_babylon(
     reader.read_meshes()?;
     reader.read_lights()?;
     reader.read_camera()?;
+    reader.warn_unsupported();
     if let Some(what) = reader.legacy_uvs.take() {
         reader.warn(std::format!(
             "{what}: textured in the 2013 interleaved layout, whose exporters wrote V either way up: \
