@@ -11,7 +11,7 @@
 //! boxes grew from 24 to 32 pixel centres (`raster::small`: those triangles' pixels get exact
 //! varyings instead of affine ones within 1/16 texel; at most 18 pixels of a render differ, by
 //! one step of 8-bit or RGB565 colour), and the 143 renders of the six scenes without a camera
-when those got `Camera::fit`'s tight framing instead of the bounding sphere's. A change to any
+//! when those got `Camera::fit`'s tight framing instead of the bounding sphere's. A change to any
 //! picture must be deliberate: rerun with `SOFT3D_BLESS=1` to record new hashes, and say why in
 //! the commit.
 //!
