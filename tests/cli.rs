@@ -404,7 +404,7 @@ fn an_orthographic_camera_shows_the_same_size_at_any_distance() {
         assert_eq!(drawn_pixels(&out, picture.as_ref()), 24 * 24, "eye {eye}");
     }
     let (out, _) = render_scene("ortho-bad", &json, &["--camera", "ortho", "--ortho-height", "-1"]);
-    assert_refused(&out, &["--ortho-height", "finite size above 0"]);
+    assert_refused(&out, &["--ortho-height", "finite number above 0"]);
 }
 
 /// The rows and columns holding drawn (not black) pixels: their counts.
@@ -430,4 +430,19 @@ fn a_scene_without_a_camera_and_fit_fill_the_frame() {
     // Without --fit the far camera sees the square small.
     let (_, picture) = render_scene("far", &far_camera, &[]);
     assert!(drawn_extent(&picture.unwrap()).1 < 10);
+}
+
+#[test]
+fn camera_options_name_themselves_and_their_range() {
+    for (args, parts) in [
+        (&["--fov", "5"][..], &["--fov", "(0, 3.1416)"][..]),
+        (&["--fov", "-1"], &["--fov", "(0, 3.1416)"]),
+        (&["--near", "-1"], &["--near", "finite number above 0"]),
+        (&["--far", "nan"], &["--far", "finite number above 0"]),
+        (&["--near", "5", "--far", "2"], &["--far", "beyond the near plane at 5"]),
+        (&["--subspan", "0"], &["--subspan", "0 is not in 1.."]),
+    ] {
+        let out = render("camera-options", args);
+        assert_refused(&out, parts);
+    }
 }

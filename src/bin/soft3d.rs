@@ -167,16 +167,16 @@ struct RenderArgs {
     camera: CameraKind,
     /// --camera ortho: the world units the frame shows from bottom to top (default: the
     /// diameter of the scene's bounding sphere); the width follows from the frame's aspect.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_positive)]
     ortho_height: Option<f32>,
-    /// Vertical field of view in radians.
-    #[arg(long)]
+    /// Vertical field of view in radians, in (0, pi) (default: the scene camera's, else 0.8).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_fov)]
     fov: Option<f32>,
-    /// Near clip distance.
-    #[arg(long)]
+    /// Near clip distance, above 0.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_positive)]
     near: Option<f32>,
-    /// Far clip distance.
-    #[arg(long)]
+    /// Far clip distance, beyond the near one.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_positive)]
     far: Option<f32>,
     /// What to draw.
     #[arg(long, value_enum, default_value_t = ModeArg::Solid)]
@@ -216,8 +216,8 @@ struct RenderArgs {
     /// Ordered dithering when the pixel format has fewer than 8 bits per channel.
     #[arg(long)]
     dither: bool,
-    /// Exact perspective correction every N pixels (1 = every pixel).
-    #[arg(long, default_value_t = 1)]
+    /// Exact perspective correction every N pixels, N at least 1 (1 = every pixel).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     subspan: u32,
     /// Also write a turntable animation to this GIF.
     #[arg(long)]
@@ -412,6 +412,24 @@ fn parse_size(s: &str) -> Result<(u16, u16)> {
     Ok((p(w)?, p(h)?))
 }
 
+/// A distance or size: a finite number above 0.
+fn parse_positive(s: &str) -> Result<f32> {
+    s.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .ok_or_else(|| format!("expected a finite number above 0, got {s:?}"))
+}
+
+/// `--fov`: radians in (0, pi).
+fn parse_fov(s: &str) -> Result<f32> {
+    s.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|x| *x > 0.0 && *x < std::f32::consts::PI)
+        .ok_or_else(|| format!("expected radians in (0, 3.1416), e.g. 0.8, got {s:?}"))
+}
+
 /// `--specular`'s exponent: a finite number above 0.
 fn parse_exponent(s: &str) -> Result<f32> {
     s.trim()
@@ -531,13 +549,16 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     let far = args.far.unwrap_or(default_far);
     // A near plane beyond the user's far plane would leave nothing: theirs decides.
     let near = args.near.unwrap_or(if default_near < far { default_near } else { far * 1e-3 });
+    if near >= far {
+        return Err(format!("--far: must be beyond the near plane at {near}, got {far} (--near, --far)"));
+    }
     let camera = match args.camera {
         CameraKind::Perspective => Camera::perspective_up((eye, target, up), fov, aspect, near, far),
         CameraKind::Ortho => {
             let diameter = 2.0 * model.bounds().map_or(1.0, |(_, radius)| radius);
             let h = args.ortho_height.unwrap_or(diameter);
             if !(h.is_finite() && h > 0.0) {
-                return Err(format!("--ortho-height: expected a finite size above 0, got {h}"));
+                return Err(format!("--ortho-height: the scene's bounds give {h}: give a finite size above 0"));
             }
             Camera::orthographic_up((eye, target, up), h * aspect, h, near, far)
         }
@@ -561,7 +582,7 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
             FilterArg::Nearest => Filter::Nearest,
             FilterArg::Bilinear => Filter::Bilinear,
         },
-        subspan: args.subspan.max(1),
+        subspan: args.subspan,
         textures: true,
         dither: args.dither,
         fixed_vertices: args.fixed_vertices,
