@@ -565,7 +565,25 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     }
     .map_err(|e| camera_error(e, (eye, target, up)))?;
     let lights = scene_lights(args, model)?;
-    let opts = RenderOptions {
+    let opts = render_options(args);
+    let threads = args.threads.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, |n| u16::try_from(n.get()).unwrap_or(256).min(256))
+    });
+    let bands = match args.bands {
+        Some(b) if b == 0 || b > height => {
+            return Err(format!("--bands: must be 1..={height} (the frame's height), got {b}"))
+        }
+        Some(b) => b,
+        // Four a thread: the busy rows of a scene spread over all of them.
+        None => threads.saturating_mul(4).min(height),
+    };
+    let background = parse_rgb(&args.background)?;
+    Ok(View { camera, lights, opts, background, width, height, bands, threads: threads.min(bands) })
+}
+
+/// The drawing options the arguments ask for.
+fn render_options(args: &RenderArgs) -> RenderOptions {
+    RenderOptions {
         shading: match args.shading {
             ShadingArg::Unlit => Shading::Unlit,
             ShadingArg::Flat => Shading::Flat,
@@ -589,20 +607,7 @@ fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         // Without a depth buffer the nearest triangle must be drawn last.
         order: if args.depth == DepthKind::None { DrawOrder::BackToFront } else { DrawOrder::AsStored },
         wire_color: matches!(args.mode, ModeArg::SolidWire).then_some([255, 255, 0]),
-    };
-    let threads = args.threads.unwrap_or_else(|| {
-        std::thread::available_parallelism().map_or(1, |n| u16::try_from(n.get()).unwrap_or(256).min(256))
-    });
-    let bands = match args.bands {
-        Some(b) if b == 0 || b > height => {
-            return Err(format!("--bands: must be 1..={height} (the frame's height), got {b}"))
-        }
-        Some(b) => b,
-        // Four a thread: the busy rows of a scene spread over all of them.
-        None => threads.saturating_mul(4).min(height),
-    };
-    let background = parse_rgb(&args.background)?;
-    Ok(View { camera, lights, opts, background, width, height, bands, threads: threads.min(bands) })
+    }
 }
 
 /// What is wrong with a camera at `eye` looking at `target` with `up`, in the options' words.
