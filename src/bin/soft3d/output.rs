@@ -1,0 +1,104 @@
+//! `render`'s command and what it writes: PNG, raw framebuffer or GIF, and the statistics.
+
+use super::*;
+
+pub(crate) fn cmd_render(args: &RenderArgs) -> Result<()> {
+    // Checked before any work: a picture written under another format's name would mislead.
+    let kind = output_kind(&args.output)?;
+    let mut conv = args.conv.clone();
+    // Keep 8-bit texels when rendering to RGB888 so the output compares exactly with others.
+    if args.format == PixelFormat::Rgb888
+        && matches!(conv.texture_format, TexFormat::Auto)
+        && args.input.extension().is_none_or(|e| e != "s3d")
+    {
+        conv.texture_format = TexFormat::Rgba8888;
+    }
+    let bytes = load_scene(&args.input, &conv)?;
+    let model = Model::parse(&bytes).map_err(|e| format!("{}: {e}", args.input.display()))?;
+    let view = make_view(args, &model)?;
+    if kind == OutputKind::Gif {
+        return write_gif(&args.output, &model, &view, args);
+    }
+    let start = std::time::Instant::now();
+    let frame = render_any(&model, &view, 0.0, args, kind == OutputKind::Raw)?;
+    let elapsed = start.elapsed();
+    let bytes = match kind {
+        OutputKind::Raw => frame.raw,
+        _ => encode_png(&frame.rgb, view.width, view.height)?,
+    };
+    write_atomically(&args.output, &bytes)?;
+    let ms = elapsed.as_secs_f64() * 1e3;
+    let stats = frame.stats;
+    match args.stats {
+        StatsFormat::Text => {
+            println!(
+                "{}: {}x{} in {ms:.2} ms ({} bands, {} threads), {stats:?}",
+                args.output.display(),
+                view.width,
+                view.height,
+                view.bands,
+                view.threads
+            );
+        }
+        StatsFormat::Json => println!("{}", stats_json(1, &view, (&model, &stats), ms)),
+    }
+    if let Some(gif) = &args.gif {
+        write_gif(gif, &model, &view, args)?;
+    }
+    Ok(())
+}
+
+pub(crate) fn encode_png(rgb: &[[u8; 3]], w: u16, h: u16) -> Result<Vec<u8>> {
+    let flat: Vec<u8> = rgb.iter().flatten().copied().collect();
+    let img = image::RgbImage::from_raw(w as u32, h as u32, flat).ok_or("image size mismatch")?;
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png).map_err(|e| e.to_string())?;
+    Ok(out.into_inner())
+}
+
+/// One frame's statistics as a JSON object: the fields of the firmware's line (examples/qemu)
+/// that a host render knows, and the time it took.
+pub(crate) fn stats_json(frame: u32, view: &View, (model, stats): (&Model<'_>, &Stats), ms: f64) -> String {
+    serde_json::json!({
+        "frame": frame,
+        "width": view.width,
+        "height": view.height,
+        "bands": view.bands,
+        "threads": view.threads,
+        "triangles": model.draw_counts().0,
+        "drawn": stats.drawn,
+        "pixels_written": stats.pixels_written,
+        "runs": stats.runs,
+        "depth_rejected": stats.depth_rejected,
+        "culled_back_face": stats.culled_back_face,
+        "culled_frustum": stats.culled_frustum + stats.culled_frustum_mesh,
+        "clipped": stats.clipped,
+        "ms": ms,
+    })
+    .to_string()
+}
+
+pub(crate) fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &RenderArgs) -> Result<()> {
+    let mut out = Vec::new();
+    {
+        let mut enc = image::codecs::gif::GifEncoder::new_with_speed(&mut out, 10);
+        enc.set_repeat(image::codecs::gif::Repeat::Infinite).map_err(|e| e.to_string())?;
+        let frames = args.frames;
+        for f in 0..frames {
+            let spin = f as f32 / frames as f32 * std::f32::consts::TAU;
+            let start = std::time::Instant::now();
+            let frame = render_any(model, view, spin, args, false)?;
+            if args.stats == StatsFormat::Json {
+                println!("{}", stats_json(f + 1, view, (model, &frame.stats), start.elapsed().as_secs_f64() * 1e3));
+            }
+            let rgba: Vec<u8> = frame.rgb.iter().flat_map(|c| [c[0], c[1], c[2], 255]).collect();
+            let img =
+                image::RgbaImage::from_raw(view.width as u32, view.height as u32, rgba).ok_or("image size mismatch")?;
+            let frame = image::Frame::from_parts(img, 0, 0, image::Delay::from_numer_denom_ms(50, 1));
+            enc.encode_frame(frame).map_err(|e| e.to_string())?;
+        }
+    }
+    write_atomically(path, &out)?;
+    println!("{}: {} frames", path.display(), args.frames);
+    Ok(())
+}

@@ -1,0 +1,183 @@
+//! What a render sees: the camera (scene, fitted or the user's), the lights and the options,
+//! from the arguments.
+
+use super::*;
+
+pub(crate) struct View {
+    pub(crate) camera: Camera,
+    pub(crate) lights: Lights<8>,
+    pub(crate) opts: RenderOptions,
+    pub(crate) background: [u8; 3],
+    pub(crate) width: u16,
+    pub(crate) height: u16,
+    pub(crate) bands: u16,
+    /// Threads drawing the bands (at most one a band).
+    pub(crate) threads: u16,
+}
+
+/// How much of the frame's limiting dimension a fitted model fills (see `--fit`).
+pub(crate) const FIT_FILL: f32 = 0.95;
+
+/// Near and far planes for an eye at `eye` that take in the whole of `model` (its bounding
+/// sphere, with 1% to spare): what `--eye` and `--target` get unless `--near` and `--far` are
+/// given.
+pub(crate) fn fitted_planes(eye: Vec3, model: &Model<'_>) -> (f32, f32) {
+    let (centre, radius) = model.bounds().unwrap_or((Vec3::ZERO, 1.0));
+    let (d, r) = (eye.distance(centre), radius * 1.01);
+    let far = (d + r).max(1e-3);
+    ((d - r).max(far * 1e-3), far)
+}
+
+/// The lights of the render: the scene's (at most 8), or `--light`'s in their place, with
+/// `--specular`; a warning for each thing left out.
+pub(crate) fn scene_lights(args: &RenderArgs, model: &Model<'_>) -> Result<Lights<8>> {
+    let mut lights = Lights::<8>::from_model(model);
+    if model.light_count() > 8 {
+        eprintln!(
+            "warning: the scene has {} lights; soft3d draws 8: the last {} are left out",
+            model.light_count(),
+            model.light_count() - 8
+        );
+    }
+    if !args.light.is_empty() {
+        if model.light_count() > 0 {
+            eprintln!("warning: --light replaces the scene's {} light(s) and its ambient light", model.light_count());
+        }
+        lights = Lights::new(Vec3::ZERO);
+        for l in &args.light {
+            let light = if let Some(v) = l.strip_prefix("dir:") {
+                let dir = parse_vec3(v, "--light dir")?;
+                if dir == Vec3::ZERO {
+                    return Err(format!("--light: a direction must not be zero, got {l:?}"));
+                }
+                Lights::<8>::directional(dir, 1.0)
+            } else if let Some(v) = l.strip_prefix("point:") {
+                Lights::<8>::point(parse_vec3(v, "--light point")?, 1.0)
+            } else {
+                return Err(format!("--light: expected dir:x,y,z or point:x,y,z, got {l:?}"));
+            };
+            lights.push(light).map_err(|_| "--light: at most 8 lights".to_string())?;
+        }
+    }
+    if let Some(power) = args.specular {
+        if args.shading == ShadingArg::Phong {
+            eprintln!(
+                "warning: --specular is not drawn with --shading phong (its per-pixel light has no specular term)"
+            );
+        }
+        lights.specular = Vec3::ONE;
+        lights.shininess = power;
+    }
+    Ok(lights)
+}
+
+pub(crate) fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
+    let (width, height) = parse_size(&args.size)?;
+    if model.draw_counts().0 == 0 {
+        return Err(format!("{}: the scene has no triangles to draw", args.input.display()));
+    }
+    let aspect = width as f32 / height.max(1) as f32;
+    let scene_cam = model.camera();
+    let fov = args.fov.or(scene_cam.map(|c| c.fov)).unwrap_or(0.8);
+    let framing = Camera::framing(model, fov, aspect).map_err(|e| e.to_string())?;
+    let (default_eye, default_target) = match &scene_cam {
+        Some(c) => (c.position, c.target),
+        None => (framing.eye, framing.target),
+    };
+    let eye = args.eye.as_deref().map(|s| parse_vec3(s, "--eye")).transpose()?.unwrap_or(default_eye);
+    let target = args.target.as_deref().map(|s| parse_vec3(s, "--target")).transpose()?.unwrap_or(default_target);
+    let up = args.up.as_deref().map(|s| parse_vec3(s, "--up")).transpose()?.unwrap_or(Vec3::Y);
+    let moved = args.eye.is_some() || args.target.is_some();
+    // `--fit`, or a scene without a camera of its own: closer, along the same direction.
+    let fitted = (args.fit || (scene_cam.is_none() && !moved))
+        .then(|| Camera::fit(model, (target - eye, up), fov, aspect, FIT_FILL))
+        .transpose()
+        .map_err(|e| camera_error(e, (eye, target, up)))?;
+    let (eye, target) = fitted.map_or((eye, target), |c| (c.eye, c.target));
+    // A camera the user moved sees the model from elsewhere: its planes are fitted to it.
+    let (default_near, default_far) = match (&fitted, &scene_cam, moved) {
+        (Some(c), _, _) => (c.near, c.far),
+        (None, _, true) => fitted_planes(eye, model),
+        (None, Some(c), false) => (c.near, c.far),
+        (None, None, false) => (framing.near, framing.far),
+    };
+    let far = args.far.unwrap_or(default_far);
+    // A near plane beyond the user's far plane would leave nothing: theirs decides.
+    let near = args.near.unwrap_or(if default_near < far { default_near } else { far * 1e-3 });
+    if near >= far {
+        return Err(format!("--far: must be beyond the near plane at {near}, got {far} (--near, --far)"));
+    }
+    let camera = match args.camera {
+        CameraKind::Perspective => Camera::perspective_up((eye, target, up), fov, aspect, near, far),
+        CameraKind::Ortho => {
+            let diameter = 2.0 * model.bounds().map_or(1.0, |(_, radius)| radius);
+            let h = args.ortho_height.unwrap_or(diameter);
+            if !(h.is_finite() && h > 0.0) {
+                return Err(format!("--ortho-height: the scene's bounds give {h}: give a finite size above 0"));
+            }
+            Camera::orthographic_up((eye, target, up), h * aspect, h, near, far)
+        }
+    }
+    .map_err(|e| camera_error(e, (eye, target, up)))?;
+    let lights = scene_lights(args, model)?;
+    let opts = render_options(args);
+    let threads = args.threads.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, |n| u16::try_from(n.get()).unwrap_or(256).min(256))
+    });
+    let bands = match args.bands {
+        Some(b) if b == 0 || b > height => {
+            return Err(format!("--bands: must be 1..={height} (the frame's height), got {b}"))
+        }
+        Some(b) => b,
+        // Four a thread: the busy rows of a scene spread over all of them.
+        None => threads.saturating_mul(4).min(height),
+    };
+    let background = parse_rgb(&args.background)?;
+    Ok(View { camera, lights, opts, background, width, height, bands, threads: threads.min(bands) })
+}
+
+/// The drawing options the arguments ask for.
+pub(crate) fn render_options(args: &RenderArgs) -> RenderOptions {
+    RenderOptions {
+        shading: match args.shading {
+            ShadingArg::Unlit => Shading::Unlit,
+            ShadingArg::Flat => Shading::Flat,
+            ShadingArg::Gouraud => Shading::Gouraud,
+            ShadingArg::Phong => Shading::Phong,
+        },
+        mode: match args.mode {
+            ModeArg::Solid => Mode::Solid,
+            ModeArg::Wire => Mode::Wireframe,
+            ModeArg::Points => Mode::Points,
+            ModeArg::SolidWire => Mode::SolidWireframe,
+        },
+        filter: match args.filter {
+            FilterArg::Nearest => Filter::Nearest,
+            FilterArg::Bilinear => Filter::Bilinear,
+        },
+        subspan: args.subspan,
+        textures: true,
+        dither: args.dither,
+        fixed_vertices: args.fixed_vertices,
+        // Without a depth buffer the nearest triangle must be drawn last.
+        order: if args.depth == DepthKind::None { DrawOrder::BackToFront } else { DrawOrder::AsStored },
+        wire_color: matches!(args.mode, ModeArg::SolidWire).then_some([255, 255, 0]),
+    }
+}
+
+/// What is wrong with a camera at `eye` looking at `target` with `up`, in the options' words.
+pub(crate) fn camera_error(e: soft3d::CameraError, (eye, target, up): (Vec3, Vec3, Vec3)) -> String {
+    if e == soft3d::CameraError::BadLookAt && eye != target && up != Vec3::ZERO {
+        let along = (target - eye).normalize().cross(up.normalize()).length() < 1e-6;
+        if along {
+            return format!(
+                "camera: it looks along its up direction {:?} (--up, default 0,1,0): give another --up, e.g. --up 0,0,1",
+                up.to_array()
+            );
+        }
+    }
+    if e == soft3d::CameraError::BadLookAt && up == Vec3::ZERO {
+        return "--up: must not be zero".to_string();
+    }
+    e.to_string()
+}
