@@ -169,34 +169,15 @@ impl Camera {
         if !(fov_ok && fill > 0.0 && fill <= 1.0) {
             return Err(CameraError::BadProjection);
         }
-        let z = crate::math::normalize_or_zero(direction);
-        let x = crate::math::normalize_or_zero(up.cross(z));
-        if z == Vec3::ZERO || x == Vec3::ZERO || !(z.is_finite() && x.is_finite()) {
-            return Err(CameraError::BadLookAt);
-        }
-        let y = z.cross(x);
+        let axes = view_axes(direction, up)?;
+        let (x, y, z) = axes;
         // The half-extents' slopes, narrowed so that the model fills `fill` of them.
         let ty = crate::math::sin(fov_y * 0.5) / crate::math::cos(fov_y * 0.5) * fill;
         let tx = ty * aspect;
         // Every vertex `p` (in the camera's axes) must satisfy |p.y - e.y| <= ty (p.z - e.z)
         // and the same along x: the closest eye has e.z = (a + b) / 2t and e.y = (b - a) / 2,
         // with a = min(t p.z - p.y) and b = min(t p.z + p.y) over the vertices.
-        let mut bounds = [f32::INFINITY; 6]; // min of tx z - x, tx z + x, ty z - y, ty z + y, z; -max z
-        for (mesh, world) in model.draws() {
-            let to_world = world * mesh.dequantize();
-            for i in 0..mesh.vertex_count() {
-                let p = to_world.transform_point3(mesh.position_stored(i));
-                let (px, py, pz) = (p.dot(x), p.dot(y), p.dot(z));
-                let values = [tx * pz - px, tx * pz + px, ty * pz - py, ty * pz + py, pz, -pz];
-                for (b, v) in bounds.iter_mut().zip(values) {
-                    *b = b.min(v);
-                }
-            }
-        }
-        let [ax, bx, ay, by, nearest, minus_farthest] = bounds;
-        if !bounds.iter().all(|b| b.is_finite()) {
-            return Err(CameraError::BadLookAt);
-        }
+        let [ax, bx, ay, by, nearest, minus_farthest] = view_bounds(model, axes, (tx, ty))?;
         let ez = ((ax + bx) / (2.0 * tx)).min((ay + by) / (2.0 * ty));
         let eye = x * ((bx - ax) / 2.0) + y * ((by - ay) / 2.0) + z * ez;
         let (near, far) = ((nearest - ez) * 0.99, (-minus_farthest - ez) * 1.01);
@@ -206,10 +187,84 @@ impl Camera {
         Self::perspective_up((eye, target, up), fov_y, aspect, near, far)
     }
 
+    /// [`Camera::fit`] for an orthographic camera: looking along `direction` (with `up` up on
+    /// screen) at the centre of `model`'s projected bounds, its height (and width, `aspect`
+    /// times it) chosen so that they fill `fill` of the frame's limiting dimension, and the eye
+    /// just in front of the nearest vertex. [`Camera::orthographic_size`] tells the size.
+    ///
+    /// # Errors
+    /// As [`Camera::fit`]'s (without a field of view).
+    pub fn fit_orthographic(
+        model: &Model<'_>,
+        (direction, up): (Vec3, Vec3),
+        aspect: f32,
+        fill: f32,
+    ) -> Result<Self, CameraError> {
+        if !(aspect > 0.0 && aspect.is_finite() && fill > 0.0 && fill <= 1.0) {
+            return Err(CameraError::BadProjection);
+        }
+        let axes = view_axes(direction, up)?;
+        let (x, y, z) = axes;
+        // With zero slopes the bounds are -max x, min x, -max y, min y, min z, -max z.
+        let [ax, bx, ay, by, nearest, minus_farthest] = view_bounds(model, axes, (0.0, 0.0))?;
+        let (width, height, depth) = (-(ax + bx), -(ay + by), -minus_farthest - nearest);
+        let size = (height.max(width / aspect) / fill).max(1e-6);
+        // 1% of the depth (or of the size, for a flat model) in front and behind.
+        let margin = (depth.max(size) * 0.01).max(1e-6);
+        let eye = x * ((bx - ax) / 2.0) + y * ((by - ay) / 2.0) + z * (nearest - 2.0 * margin);
+        let target = eye + z * (depth * 0.5 + 2.0 * margin);
+        Self::orthographic_up((eye, target, up), size * aspect, size, margin, depth + 3.0 * margin)
+    }
+
+    /// The width and height an orthographic camera shows (in world units), `None` for a
+    /// perspective one.
+    #[must_use]
+    pub fn orthographic_size(&self) -> Option<(f32, f32)> {
+        let p = &self.projection;
+        (p.w_axis.w == 1.0).then(|| (2.0 / p.x_axis.x, 2.0 / p.y_axis.y))
+    }
+
     /// `projection · view`: world to clip space.
     #[must_use]
     pub fn view_projection(&self) -> Mat4 {
         self.projection * self.view
+    }
+}
+
+/// The camera's right, up and forward axes for a view along `direction` with `up` up.
+fn view_axes(direction: Vec3, up: Vec3) -> Result<(Vec3, Vec3, Vec3), CameraError> {
+    let z = crate::math::normalize_or_zero(direction);
+    let x = crate::math::normalize_or_zero(up.cross(z));
+    if z == Vec3::ZERO || x == Vec3::ZERO || !(z.is_finite() && x.is_finite()) {
+        return Err(CameraError::BadLookAt);
+    }
+    Ok((x, z.cross(x), z))
+}
+
+/// Over every vertex `p` of `model` (meshes and instances), in the camera's `axes`, with the
+/// half-extents' slopes `(tx, ty)`: the minimum of tx p.z - p.x, tx p.z + p.x, ty p.z - p.y,
+/// ty p.z + p.y, p.z and -p.z. `BadLookAt` when the model has no finite vertex.
+fn view_bounds(
+    model: &Model<'_>,
+    (x, y, z): (Vec3, Vec3, Vec3),
+    (tx, ty): (f32, f32),
+) -> Result<[f32; 6], CameraError> {
+    let mut bounds = [f32::INFINITY; 6];
+    for (mesh, world) in model.draws() {
+        let to_world = world * mesh.dequantize();
+        for i in 0..mesh.vertex_count() {
+            let p = to_world.transform_point3(mesh.position_stored(i));
+            let (px, py, pz) = (p.dot(x), p.dot(y), p.dot(z));
+            let values = [tx * pz - px, tx * pz + px, ty * pz - py, ty * pz + py, pz, -pz];
+            for (b, v) in bounds.iter_mut().zip(values) {
+                *b = b.min(v);
+            }
+        }
+    }
+    if bounds.iter().all(|b| b.is_finite()) {
+        Ok(bounds)
+    } else {
+        Err(CameraError::BadLookAt)
     }
 }
 

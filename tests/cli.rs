@@ -91,36 +91,60 @@ fn the_picture_is_named_as_what_it_is() {
     assert!(!written, "a file was written");
 }
 
-/// A 2x2 24-bit BMP, every pixel red.
-fn red_bmp() -> Vec<u8> {
-    let pixels = [[0u8, 0, 255, 0, 0, 255, 0, 0].as_slice(); 2].concat(); // BGR, rows padded to 4
-    let mut bmp = b"BM".to_vec();
-    for word in [54 + pixels.len() as u32, 0, 54, 40, 2, 2] {
-        bmp.extend(word.to_le_bytes());
+/// A 4x4 red texture in `format`, made by the `image` crate's own encoder (each format takes
+/// the pixel type it can store).
+fn red_texture(format: image::ImageFormat) -> Vec<u8> {
+    use image::{DynamicImage, ImageFormat as F};
+    let red = DynamicImage::ImageRgb8(image::RgbImage::from_pixel(4, 4, image::Rgb([255, 0, 0])));
+    let img = match format {
+        F::Hdr => DynamicImage::ImageRgb32F(red.to_rgb32f()),
+        F::OpenExr => DynamicImage::ImageRgba32F(red.to_rgba32f()),
+        F::Farbfeld => DynamicImage::ImageRgba16(red.to_rgba16()),
+        F::Ico => DynamicImage::ImageRgba8(red.to_rgba8()),
+        _ => red,
+    };
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, format).unwrap_or_else(|e| panic!("{format:?}: {e}"));
+    out.into_inner()
+}
+
+/// A 4x4 DXT1 DDS, every texel red (the `image` crate decodes DDS but does not write it).
+fn red_dds() -> Vec<u8> {
+    let mut dds = b"DDS ".to_vec();
+    let flags = 0x1 | 0x2 | 0x4 | 0x1000; // caps, height, width, pixel format
+    let header = [124, flags, 4, 4, 8, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+    let pixel_format = [32, 0x4, u32::from_le_bytes(*b"DXT1"), 0, 0, 0, 0, 0];
+    for word in header.iter().chain(&pixel_format).chain(&[0x1000, 0, 0, 0, 0]) {
+        dds.extend(word.to_le_bytes());
     }
-    bmp.extend(1u16.to_le_bytes()); // planes
-    bmp.extend(24u16.to_le_bytes()); // bits a pixel
-    for word in [0, pixels.len() as u32, 2835, 2835, 0, 0] {
-        bmp.extend(word.to_le_bytes());
-    }
-    bmp.extend(pixels);
-    bmp
+    dds.extend([0x00, 0xF8, 0x00, 0xF8, 0, 0, 0, 0]); // both end colours RGB565 red, all texels colour 0
+    dds
 }
 
 #[test]
-fn a_bmp_texture_is_drawn() {
-    let dir = scene("bmp");
-    std::fs::write(dir.join("red.bmp"), red_bmp()).unwrap();
-    let json = r#"{"materials":[{"name":"m","id":"m","diffuse":[1,1,1],"diffuseTexture":{"name":"red.bmp"}}],
-        "meshes":[{"name":"t","id":"t","materialId":"m","positions":[-1,-1,0,1,-1,0,-1,1,0],
-        "indices":[0,1,2],"normals":[0,0,-1,0,0,-1,0,0,-1],"uvs":[0,0,1,0,0,1]}]}"#;
-    std::fs::write(dir.join("tex.babylon"), json).unwrap();
-    let out = render_to(&dir.join("tex.babylon"), &dir.join("out.png"), &["--size", "64x48", "--shading", "unlit"]);
-    let picture = image::open(dir.join("out.png")).map(|i| i.to_rgb8());
-    std::fs::remove_dir_all(&dir).unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let red = picture.unwrap().pixels().filter(|p| p.0 == [255, 0, 0]).count();
-    assert!(red > 50, "{red} red pixels");
+fn every_pure_rust_image_format_is_a_texture() {
+    use image::ImageFormat as F;
+    let encoded = [F::Png, F::Jpeg, F::Gif, F::WebP, F::Pnm, F::Tiff, F::Tga, F::Bmp, F::Ico, F::Hdr];
+    let mut files: Vec<(String, Vec<u8>)> = [F::OpenExr, F::Farbfeld, F::Qoi]
+        .into_iter()
+        .chain(encoded)
+        .map(|f| (format!("red.{}", f.extensions_str()[0]), red_texture(f)))
+        .collect();
+    files.push(("red.dds".into(), red_dds()));
+    for (name, bytes) in files {
+        let dir = scene(&name.replace('.', "-"));
+        std::fs::write(dir.join(&name), bytes).unwrap();
+        let json = r#"{"materials":[{"name":"m","id":"m","diffuse":[1,1,1],"diffuseTexture":{"name":"NAME"}}],
+            "meshes":[{"name":"t","id":"t","materialId":"m","positions":[-1,-1,0,1,-1,0,-1,1,0],
+            "indices":[0,1,2],"normals":[0,0,-1,0,0,-1,0,0,-1],"uvs":[0,0,1,0,0,1]}]}"#;
+        std::fs::write(dir.join("tex.babylon"), json.replace("NAME", &name)).unwrap();
+        let out = render_to(&dir.join("tex.babylon"), &dir.join("out.png"), &["--size", "64x48", "--shading", "unlit"]);
+        let picture = image::open(dir.join("out.png")).map(|i| i.to_rgb8());
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let red = picture.unwrap().pixels().filter(|p| p.0[0] > 240 && p.0[1] < 16 && p.0[2] < 16).count();
+        assert!(red > 50, "{name}: {red} red pixels");
+    }
 }
 
 #[test]
@@ -420,7 +444,13 @@ fn a_scene_without_a_camera_and_fit_fill_the_frame() {
     let square = r#"{"meshes":[{"name":"s","id":"s","positions":[-10,-10,0,10,-10,0,10,10,0,-10,10,0],
         "indices":[0,1,2,0,2,3],"normals":[0,0,-1,0,0,-1,0,0,-1,0,0,-1]}]}"#;
     let far_camera = square_with(r#"{"id":"c","name":"c","position":[0,0,-400],"target":[0,0,0],"maxZ":1000}"#);
-    for (test, json, args) in [("no-camera", square, &[][..]), ("fit", &far_camera, &["--fit"][..])] {
+    let ortho = ["--camera", "ortho"];
+    for (test, json, args) in [
+        ("no-camera", square, &[][..]),
+        ("fit", &far_camera, &["--fit"][..]),
+        ("ortho-no-camera", square, &ortho[..]),
+        ("ortho-fit", &far_camera, &[&ortho[..], &["--fit"]].concat()[..]),
+    ] {
         let (out, picture) = render_scene(test, json, args);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         // 48 rows is the limiting dimension of 64x48: at least 90% of it.

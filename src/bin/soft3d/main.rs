@@ -166,15 +166,16 @@ struct RenderArgs {
     #[arg(long, allow_hyphen_values = true)]
     up: Option<String>,
     /// Move the camera along its view direction (and sideways) until the whole model fills 95%
-    /// of the frame's height or width, with near and far fitted to it: what a scene without a
-    /// camera gets.
+    /// of the frame's height or width, with near and far fitted to it (--camera ortho: centre it
+    /// and size the view so): what a scene without a camera gets.
     #[arg(long)]
     fit: bool,
     /// The projection.
     #[arg(long, value_enum, default_value_t = CameraKind::Perspective)]
     camera: CameraKind,
-    /// --camera ortho: the world units the frame shows from bottom to top (default: the
-    /// diameter of the scene's bounding sphere); the width follows from the frame's aspect.
+    /// --camera ortho: the world units the frame shows from bottom to top, above 0 (default:
+    /// fitted with --fit or for a scene without a camera, else the diameter of the scene's
+    /// bounding sphere); the width follows from the frame's aspect.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_positive)]
     ortho_height: Option<f32>,
     /// Vertical field of view in radians, in (0, pi) (default: the scene camera's, else 0.8).
@@ -195,8 +196,8 @@ struct RenderArgs {
     /// Render in N horizontal bands, in 1..=the frame's height (default: four a thread).
     #[arg(long)]
     bands: Option<u16>,
-    /// Threads drawing the bands (default: one a core); the picture is the same for every
-    /// count.
+    /// Threads drawing the bands, in 1..=256 (default: one a core); the picture is the same
+    /// for every count.
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
     threads: Option<u16>,
     /// Background colour r,g,b (0-255).
@@ -208,7 +209,9 @@ struct RenderArgs {
     /// Texture filter.
     #[arg(long, value_enum, default_value_t = FilterArg::Nearest)]
     filter: FilterArg,
-    /// A light, dir:x,y,z or point:x,y,z (repeatable; default: the scene's lights).
+    /// A white light of intensity 1, dir:x,y,z (a direction, not zero) or point:x,y,z (a
+    /// position); repeatable, at most 8. Given, they replace the scene's lights and ambient
+    /// (default: the scene's lights, at most 8).
     #[arg(long, allow_hyphen_values = true)]
     light: Vec<String>,
     /// Pixel format rendered into (the PNG shows it widened back to 8 bits).
@@ -234,7 +237,8 @@ struct RenderArgs {
     #[arg(long, default_value_t = 36, value_parser = clap::value_parser!(u32).range(1..))]
     frames: u32,
     /// How the statistics are printed: a line of text, or one JSON object a frame (the
-    /// firmware's fields that a host render knows, and the time).
+    /// firmware's fields that a host render knows, summed over the bands: `drawn` counts a
+    /// triangle once for each band it has pixels in; and the time).
     #[arg(long, value_enum, default_value_t = StatsFormat::Text)]
     stats: StatsFormat,
     #[command(flatten)]

@@ -27,21 +27,7 @@ pub(crate) fn cmd_render(args: &RenderArgs) -> Result<()> {
         _ => encode_png(&frame.rgb, view.width, view.height)?,
     };
     write_atomically(&args.output, &bytes)?;
-    let ms = elapsed.as_secs_f64() * 1e3;
-    let stats = frame.stats;
-    match args.stats {
-        StatsFormat::Text => {
-            println!(
-                "{}: {}x{} in {ms:.2} ms ({} bands, {} threads), {stats:?}",
-                args.output.display(),
-                view.width,
-                view.height,
-                view.bands,
-                view.threads
-            );
-        }
-        StatsFormat::Json => println!("{}", stats_json(1, &view, (&model, &stats), ms)),
-    }
+    print_stats(args, (1, &view), (&model, &frame.stats), elapsed.as_secs_f64() * 1e3);
     if let Some(gif) = &args.gif {
         write_gif(gif, &model, &view, args)?;
     }
@@ -56,26 +42,43 @@ pub(crate) fn encode_png(rgb: &[[u8; 3]], w: u16, h: u16) -> Result<Vec<u8>> {
     Ok(out.into_inner())
 }
 
-/// One frame's statistics as a JSON object: the fields of the firmware's line (examples/qemu)
-/// that a host render knows, and the time it took.
-pub(crate) fn stats_json(frame: u32, view: &View, (model, stats): (&Model<'_>, &Stats), ms: f64) -> String {
-    serde_json::json!({
-        "frame": frame,
-        "width": view.width,
-        "height": view.height,
-        "bands": view.bands,
-        "threads": view.threads,
-        "triangles": model.draw_counts().0,
-        "drawn": stats.drawn,
-        "pixels_written": stats.pixels_written,
-        "runs": stats.runs,
-        "depth_rejected": stats.depth_rejected,
-        "culled_back_face": stats.culled_back_face,
-        "culled_frustum": stats.culled_frustum + stats.culled_frustum_mesh,
-        "clipped": stats.clipped,
-        "ms": ms,
-    })
-    .to_string()
+/// Prints frame `frame`'s statistics as `--stats` asks: a line of `name value` pairs after the
+/// output's name, or a JSON object. The same fields either way: the firmware's (examples/qemu)
+/// that a host render knows, summed over the frame's bands (`drawn` counts a triangle once for
+/// each band it has pixels in, as the firmware does), and the time it took.
+pub(crate) fn print_stats(
+    args: &RenderArgs,
+    (frame, view): (u32, &View),
+    (model, stats): (&Model<'_>, &Stats),
+    ms: f64,
+) {
+    let fields = [
+        ("frame", u64::from(frame)),
+        ("width", u64::from(view.width)),
+        ("height", u64::from(view.height)),
+        ("bands", u64::from(view.bands)),
+        ("threads", u64::from(view.threads)),
+        ("triangles", model.draw_counts().0 as u64),
+        ("drawn", u64::from(stats.drawn)),
+        ("pixels_written", u64::from(stats.pixels_written)),
+        ("runs", u64::from(stats.runs)),
+        ("depth_rejected", u64::from(stats.depth_rejected)),
+        ("culled_back_face", u64::from(stats.culled_back_face)),
+        ("culled_frustum", u64::from(stats.culled_frustum) + u64::from(stats.culled_frustum_mesh)),
+        ("clipped", u64::from(stats.clipped)),
+    ];
+    match args.stats {
+        StatsFormat::Text => {
+            let pairs: Vec<String> = fields.iter().map(|(name, value)| format!("{name} {value}")).collect();
+            println!("{}: {}, {ms:.2} ms", args.output.display(), pairs.join(", "));
+        }
+        StatsFormat::Json => {
+            let mut object: serde_json::Map<String, serde_json::Value> =
+                fields.iter().map(|&(name, value)| (name.to_string(), value.into())).collect();
+            object.insert("ms".into(), ms.into());
+            println!("{}", serde_json::Value::Object(object));
+        }
+    }
 }
 
 pub(crate) fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &RenderArgs) -> Result<()> {
@@ -89,7 +92,7 @@ pub(crate) fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &Rend
             let start = std::time::Instant::now();
             let frame = render_any(model, view, spin, args, false)?;
             if args.stats == StatsFormat::Json {
-                println!("{}", stats_json(f + 1, view, (model, &frame.stats), start.elapsed().as_secs_f64() * 1e3));
+                print_stats(args, (f + 1, view), (model, &frame.stats), start.elapsed().as_secs_f64() * 1e3);
             }
             let rgba: Vec<u8> = frame.rgb.iter().flat_map(|c| [c[0], c[1], c[2], 255]).collect();
             let img =

@@ -90,7 +90,10 @@ pub(crate) fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     let moved = args.eye.is_some() || args.target.is_some();
     // `--fit`, or a scene without a camera of its own: closer, along the same direction.
     let fitted = (args.fit || (scene_cam.is_none() && !moved))
-        .then(|| Camera::fit(model, (target - eye, up), fov, aspect, FIT_FILL))
+        .then(|| match args.camera {
+            CameraKind::Perspective => Camera::fit(model, (target - eye, up), fov, aspect, FIT_FILL),
+            CameraKind::Ortho => Camera::fit_orthographic(model, (target - eye, up), aspect, FIT_FILL),
+        })
         .transpose()
         .map_err(|e| camera_error(e, (eye, target, up)))?;
     let (eye, target) = fitted.map_or((eye, target), |c| (c.eye, c.target));
@@ -110,8 +113,10 @@ pub(crate) fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     let camera = match args.camera {
         CameraKind::Perspective => Camera::perspective_up((eye, target, up), fov, aspect, near, far),
         CameraKind::Ortho => {
+            // The fitted size, else the bounding sphere's diameter.
+            let fitted_height = fitted.and_then(|c| c.orthographic_size()).map(|(_, h)| h);
             let diameter = 2.0 * model.bounds().map_or(1.0, |(_, radius)| radius);
-            let h = args.ortho_height.unwrap_or(diameter);
+            let h = args.ortho_height.or(fitted_height).unwrap_or(diameter);
             if !(h.is_finite() && h > 0.0) {
                 return Err(format!("--ortho-height: the scene's bounds give {h}: give a finite size above 0"));
             }
