@@ -3,6 +3,7 @@
 # (SECONDS 0: no time limit, for runs bounded by `-runs=N`, see scripts/fuzz-campaign.sh)
 #
 # Targets (fuzz/fuzz_targets): parse (.s3d bytes, then every accessor and a small draw),
+# texture (every image decoder, on a texture embedded in a .babylon),
 # babylon (the .babylon reader and the .s3d writer), draw (a seed model drawn with arbitrary
 # cameras, transforms, options, lights, bands, pixel and depth formats and scratch sizes),
 # buffers (every entry point given memory of the wrong size). Built with debug assertions

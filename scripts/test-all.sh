@@ -81,7 +81,7 @@ step "demo, headless (beside the short fuzz; its output after it)"
 background cargo run --release --example simulator -- --headless --frames 4
 
 step "short fuzz of every target (debug assertions on; installs cargo-fuzz)"
-for target in parse babylon draw buffers; do
+for target in parse babylon texture draw buffers; do
   echo "-- $target"
   # 10 s each: a smoke run that keeps CI under 30 minutes (the campaigns are longer, see
   # scripts/fuzz-campaign.sh).
