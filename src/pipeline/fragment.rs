@@ -298,7 +298,7 @@ impl<const L: usize> LightOf<L> for Specular {
     type Lighting<'c> = Specular;
     #[inline(always)]
     fn of(ctx: &Context<'_, L>) -> Specular {
-        Specular(ctx.specular)
+        Specular(ctx.frame.specular)
     }
 }
 
@@ -310,7 +310,7 @@ impl<const L: usize> LightOf<L> for PerPixel {
     const TOLERANCE: u32 = 1 << 4;
     #[inline(always)]
     fn of<'c>(ctx: &'c Context<'_, L>) -> &'c PixelLights<L> {
-        &ctx.pixel_lights
+        &ctx.frame.pixel_lights
     }
 }
 
@@ -345,7 +345,7 @@ impl LitBy {
     pub(crate) fn of_surface<const L: usize>(ctx: &Context<'_, L>, white: bool) -> Option<LitBy> {
         if ctx.opts.shading == Shading::Phong {
             Some(LitBy::Pixel)
-        } else if ctx.specular != [0; 3] {
+        } else if ctx.frame.specular != [0; 3] {
             Some(LitBy::VertexAndSpecular)
         } else {
             white.then_some(LitBy::White)

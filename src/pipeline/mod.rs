@@ -261,14 +261,12 @@ impl std::error::Error for DrawError {}
 /// }
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Renderer<'f, const L: usize> {
-    camera: &'f Camera,
-    /// The camera's view-projection matrix, worked out once (not in every band: soft-float
-    /// without an FPU).
-    vp: Mat4,
-    lights: &'f Lights<L>,
-    options: RenderOptions,
+    /// What every band of every frame draws with, worked out once (not in every band: the
+    /// lights' conversions are soft-float without an FPU), and kept here, in the caller's
+    /// memory, off the draw's stack.
+    frame: FrameConstants<'f, L>,
 }
 
 impl<'f, const L: usize> Renderer<'f, L> {
@@ -276,22 +274,22 @@ impl<'f, const L: usize> Renderer<'f, L> {
     /// change it).
     #[must_use]
     pub fn new(camera: &'f Camera, lights: &'f Lights<L>, options: RenderOptions) -> Self {
-        Renderer { camera, vp: camera.view_projection(), lights, options }
+        Renderer { frame: FrameConstants::new(camera, lights, options) }
     }
 
     /// Lets this draw use `scratch`'s rows and vertices if they are its own (see
     /// [`Scratch::claim`]). Not inlined: the owner's record stays off the draw's stack frame.
     #[inline(never)]
-    fn claim(&self, scratch: &mut Scratch<'_>, model: &Model<'_>, transform: Mat4, ctx: &Context<'_, L>) {
+    fn claim(&self, scratch: &mut Scratch<'_>, model: &Model<'_>, transform: &Mat4, ctx: &Context<'_, L>) {
         scratch.claim(self.owner(model, transform, ctx));
     }
 
     /// What a [`Scratch`]'s rows and vertices computed by this draw depend on.
-    fn owner(&self, model: &Model<'_>, transform: Mat4, ctx: &Context<'_, L>) -> scratch::Owner {
-        let (o, l) = (&self.options, self.lights);
+    fn owner(&self, model: &Model<'_>, transform: &Mat4, ctx: &Context<'_, L>) -> scratch::Owner {
+        let (o, l) = (&self.frame.opts, self.frame.lights);
         let mut d = scratch::Digest::new();
         d.word(model.bytes().as_ptr() as usize as u32).word(model.bytes().len() as u32);
-        d.floats(&transform.to_cols_array()).floats(&ctx.vp.to_cols_array());
+        d.floats(&transform.to_cols_array()).floats(&ctx.frame.vp.to_cols_array());
         let wire = o.wire_color.map_or(1 << 24, |[r, g, b]| u32::from_le_bytes([r, g, b, 0]));
         let flags = [o.textures, o.dither, o.fixed_vertices].iter().fold(0, |f, &b| f << 1 | u32::from(b));
         d.word(o.shading as u32).word(o.mode as u32).word(o.filter as u32).word(o.order as u32);
@@ -306,7 +304,7 @@ impl<'f, const L: usize> Renderer<'f, L> {
     /// The options it draws with.
     #[must_use]
     pub fn options(&self) -> &RenderOptions {
-        &self.options
+        &self.frame.opts
     }
 
     /// Draws every mesh and instance of `model`, each placed by `transform · world`
@@ -327,7 +325,7 @@ impl<'f, const L: usize> Renderer<'f, L> {
         transform: Mat4,
         scratch: &mut Scratch<'_>,
     ) -> Result<Stats, DrawError> {
-        match self.options.order {
+        match self.frame.opts.order {
             DrawOrder::AsStored => Ok(self.draw_as_stored(band, model, transform, scratch)),
             DrawOrder::BackToFront => self.draw_sorted(band, model, transform, scratch),
         }
@@ -342,9 +340,9 @@ impl<'f, const L: usize> Renderer<'f, L> {
         transform: Mat4,
         scratch: &mut Scratch<'_>,
     ) -> Stats {
-        let ctx = Context::new(band, (self.camera, self.vp), self.lights, &self.options);
-        self.claim(scratch, model, transform, &ctx);
-        draw_all(band, model, transform, &ctx, scratch)
+        let ctx = Context::new(band, &self.frame);
+        self.claim(scratch, model, &transform, &ctx);
+        draw_all(band, model, &transform, &ctx, scratch)
     }
 
     /// [`DrawOrder::BackToFront`]'s draw (see [`Renderer::draw_as_stored`]).
@@ -356,19 +354,20 @@ impl<'f, const L: usize> Renderer<'f, L> {
         transform: Mat4,
         scratch: &mut Scratch<'_>,
     ) -> Result<Stats, DrawError> {
-        let ctx = Context::new(band, (self.camera, self.vp), self.lights, &self.options);
+        let ctx = Context::new(band, &self.frame);
         sort::draw_back_to_front(band, model, transform, &ctx, scratch)
     }
 }
 
-/// Per-frame constants shared by every draw.
-pub(crate) struct Context<'l, const L: usize> {
+/// What every band of every frame draws with (a [`Renderer`] holds it).
+#[derive(Clone, Debug)]
+pub(crate) struct FrameConstants<'l, const L: usize> {
+    /// The camera's view-projection matrix.
     pub(crate) vp: Mat4,
     pub(crate) eye: Vec3,
     pub(crate) lights: &'l Lights<L>,
     pub(crate) vertex_lights: PreparedLights<L>,
-    /// The lights per pixel: for Phong shading, the only one that reads them (none else: each
-    /// band builds its context, and their fixed-point conversion is soft-float without an FPU).
+    /// The lights per pixel: for Phong shading, the only one that reads them.
     pub(crate) pixel_lights: PixelLights<L>,
     /// The specular colour in 8 bits (zero: specular off).
     pub(crate) specular: [u8; 3],
@@ -380,25 +379,12 @@ pub(crate) struct Context<'l, const L: usize> {
     /// comes from the same operations on the same values.
     pub(crate) grey_light: bool,
     pub(crate) opts: RenderOptions,
-    pub(crate) guard: GuardBand,
-    pub(crate) window: Window,
-    pub(crate) half: (f32, f32),
-    /// `half` times 16 (in 1/16 pixels): eight times the frame's width and height.
-    pub(crate) half_16: [i32; 2],
-    /// The frame's height in pixels.
-    pub(crate) height: u16,
 }
 
-impl<'l, const L: usize> Context<'l, L> {
-    pub(crate) fn new<C, D>(
-        band: &Band<'_, C, D>,
-        (camera, vp): (&Camera, Mat4),
-        lights: &'l Lights<L>,
-        opts: &RenderOptions,
-    ) -> Self {
-        let (w, h) = (band.width as f32, band.height as f32);
-        Context {
-            vp,
+impl<'l, const L: usize> FrameConstants<'l, L> {
+    fn new(camera: &Camera, lights: &'l Lights<L>, opts: RenderOptions) -> Self {
+        FrameConstants {
+            vp: camera.view_projection(),
             eye: camera.eye,
             lights,
             vertex_lights: lights.prepared(),
@@ -411,7 +397,32 @@ impl<'l, const L: usize> Context<'l, L> {
             lit_by_position: lights.specular != Vec3::ZERO
                 || lights.lights.iter().any(|l| l.kind == crate::format::LightKind::Point),
             grey_light: is_grey(lights.ambient) && lights.lights.iter().all(|l| is_grey(l.diffuse)),
-            opts: *opts,
+            opts,
+        }
+    }
+}
+
+/// What a band's draws share: the frame's constants and the band's place in the frame.
+pub(crate) struct Context<'l, const L: usize> {
+    pub(crate) frame: &'l FrameConstants<'l, L>,
+    /// The frame's options (a copy: read in every triangle, and constants to the compiler
+    /// when the caller's are).
+    pub(crate) opts: RenderOptions,
+    pub(crate) guard: GuardBand,
+    pub(crate) window: Window,
+    pub(crate) half: (f32, f32),
+    /// `half` times 16 (in 1/16 pixels): eight times the frame's width and height.
+    pub(crate) half_16: [i32; 2],
+    /// The frame's height in pixels.
+    pub(crate) height: u16,
+}
+
+impl<'l, const L: usize> Context<'l, L> {
+    pub(crate) fn new<C, D>(band: &Band<'_, C, D>, frame: &'l FrameConstants<'l, L>) -> Self {
+        let (w, h) = (band.width as f32, band.height as f32);
+        Context {
+            frame,
+            opts: frame.opts,
             guard: GuardBand { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
             window: Window {
                 width: band.width as i32,
@@ -482,17 +493,17 @@ impl<const L: usize> Transforms<L> {
     fn new(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4) -> Self {
         let model_q = *world * mesh.dequantize();
         let normals = normal_matrix(world);
-        let (mvp, sphere) = (ctx.vp * model_q, mesh.bounding_sphere());
+        let (mvp, sphere) = (ctx.frame.vp * model_q, mesh.bounding_sphere());
         let fixed = ctx.opts.fixed_vertices.then_some(()).and_then(|()| {
             let (offset, step) = mesh.arrays().int_position_frame(sphere);
             Some((FixedTransform::new(&mvp, offset, step)?, sphere))
         });
         let rotation = crate::math::is_rotation(&normals);
-        let integer_light = rotation && !ctx.lit_by_position;
+        let integer_light = rotation && !ctx.frame.lit_by_position;
         Transforms {
             mvp,
             fixed,
-            fixed_lights: integer_light.then(|| ctx.vertex_lights.fixed(&normals)).flatten(),
+            fixed_lights: integer_light.then(|| ctx.frame.vertex_lights.fixed(&normals)).flatten(),
             model_q,
             normals,
             rotation,
@@ -501,10 +512,12 @@ impl<const L: usize> Transforms<L> {
 }
 
 impl<'a, const L: usize> DrawSetup<'a, L> {
-    /// The draw of `mesh` placed by `world`. Not inlined: the matrix temporaries stay out of
-    /// the caller's frame, which lives on under the rasterizer.
+    /// The draw of `mesh` placed by `transform · world`. Not inlined, and the matrices by
+    /// reference: their product and temporaries stay out of the caller's frame, which lives on
+    /// under the rasterizer.
     #[inline(never)]
-    pub(crate) fn new(ctx: &Context<'_, L>, mesh: Mesh<'a>, world: Mat4) -> Self {
+    pub(crate) fn new(ctx: &Context<'_, L>, mesh: Mesh<'a>, (transform, world): (&Mat4, &Mat4)) -> Self {
+        let world = *transform * *world;
         let flip = Mat3::from_mat4(world).determinant() < 0.0;
         Self::with(Some(Transforms::new(ctx, &mesh, &world)), mesh, flip)
     }
@@ -537,7 +550,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     ctx: &Context<'_, L>,
     model: &Model<'_>,
     mesh: &Mesh<'_>,
-    (transform, world): (Mat4, Mat4),
+    placement: (&Mat4, &Mat4),
     ((mut rows, vertices), unclipped): (Caches<'_>, Option<bool>),
 ) -> (Stats, Option<bool>) {
     let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
@@ -553,17 +566,16 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     let mut setup = match reuse {
         Some(flip) => DrawSetup::without_transforms(*mesh, flip),
         None => {
-            let world = transform * world;
             // `unclipped`: an earlier band of this frame found the mesh in view (the same
             // test, for the same camera and transform).
-            if unclipped.is_none() && !sphere_visible(&ctx.vp, &world, mesh.bounding_sphere()) {
+            if unclipped.is_none() && !in_view(ctx, mesh, placement) {
                 stats.culled_frustum_mesh = mesh.triangle_count();
                 if let Some(rows) = rows {
                     rows.fill(TriangleRows::EMPTY);
                 }
                 return (stats, None);
             }
-            DrawSetup::new(ctx, *mesh, world)
+            DrawSetup::new(ctx, *mesh, placement)
         }
     };
     let mut filled_unclipped = false;
@@ -606,7 +618,7 @@ fn uniform_texel_scale<const L: usize>(ctx: &Context<'_, L>, model: &Model<'_>, 
 fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     model: &Model<'_>,
-    transform: Mat4,
+    transform: &Mat4,
     ctx: &Context<'_, L>,
     scratch: &mut Scratch<'_>,
 ) -> Stats {
@@ -616,7 +628,7 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
         let (nt, nv) = (mesh.triangle_count() as usize, mesh.vertex_count() as usize);
         let unclipped = scratch.unclipped(d);
         let caches = scratch.for_draw(triangles..triangles.saturating_add(nt), vertices..vertices.saturating_add(nv));
-        let (s, filled_unclipped) = draw_mesh_with(band, ctx, model, &mesh, (transform, world), (caches, unclipped));
+        let (s, filled_unclipped) = draw_mesh_with(band, ctx, model, &mesh, (transform, &world), (caches, unclipped));
         stats += s;
         if let Some(flip) = filled_unclipped {
             scratch.set_unclipped(d, flip);
@@ -627,6 +639,13 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
         vertices = vertices.saturating_add(nv);
     }
     stats
+}
+
+/// Whether `mesh` placed by `transform · world` may be in view (see [`sphere_visible`]). Not
+/// inlined, for the same reason as [`DrawSetup::new`].
+#[inline(never)]
+fn in_view<const L: usize>(ctx: &Context<'_, L>, mesh: &Mesh<'_>, (transform, world): (&Mat4, &Mat4)) -> bool {
+    sphere_visible(&ctx.frame.vp, &(*transform * *world), mesh.bounding_sphere())
 }
 
 /// Whether a local-space bounding sphere, placed by `world`, may be inside the view frustum.

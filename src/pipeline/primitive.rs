@@ -48,7 +48,7 @@ impl<'a, 'm> Surface<'a, 'm> {
         ctx: &Context<'_, L>,
         s: &DrawSetup<'_, L>,
     ) -> Self {
-        let white = ctx.grey_light && !s.arrays.has_colors();
+        let white = ctx.frame.grey_light && !s.arrays.has_colors();
         let lit = LitBy::of_surface(ctx, white);
         let [r, g, b, _] = material.rgba;
         Surface {

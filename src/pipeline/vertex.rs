@@ -116,9 +116,9 @@ pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'
 fn float_vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>, i: u32) -> VertexLight {
     let n = world_normal(s, i);
     // Directional and hemispheric light need no position.
-    let p = if ctx.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
+    let p = if ctx.frame.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
     // Clamped by the quantization.
-    let l = ctx.vertex_lights.unclamped_at(p, n);
+    let l = ctx.frame.vertex_lights.unclamped_at(p, n);
     quantize_light([l.x, l.y, l.z, specular(ctx, p, n)])
 }
 
@@ -126,8 +126,8 @@ fn float_vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>
 #[inline(always)]
 fn specular<const L: usize>(ctx: &Context<'_, L>, p: Vec3, n: Vec3) -> f32 {
     // Without point lights or specular, specular is off: what `specular_at` would find.
-    if ctx.lit_by_position {
-        ctx.lights.specular_at(p, n, ctx.eye)
+    if ctx.frame.lit_by_position {
+        ctx.frame.lights.specular_at(p, n, ctx.frame.eye)
     } else {
         0.0
     }
@@ -328,7 +328,7 @@ fn face_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>, idx: &
     }
     let centre = (p[0] + p[1] + p[2]) / 3.0;
     // Clamped by the quantization.
-    let l = ctx.vertex_lights.unclamped_at(centre, n);
+    let l = ctx.frame.vertex_lights.unclamped_at(centre, n);
     quantize_light([l.x, l.y, l.z, specular(ctx, centre, n)])
 }
 
