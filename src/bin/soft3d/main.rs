@@ -424,31 +424,24 @@ fn parse_size(s: &str) -> Result<(u16, u16)> {
     Ok((p(w)?, p(h)?))
 }
 
+/// A number `s` that `ok` accepts, else a message saying what was `expected` and what came.
+fn parse_number(s: &str, ok: impl Fn(f32) -> bool, expected: &str) -> Result<f32> {
+    s.trim().parse::<f32>().ok().filter(|&x| ok(x)).ok_or_else(|| format!("expected {expected}, got {s:?}"))
+}
+
 /// A distance or size: a finite number above 0.
 fn parse_positive(s: &str) -> Result<f32> {
-    s.trim()
-        .parse::<f32>()
-        .ok()
-        .filter(|x| x.is_finite() && *x > 0.0)
-        .ok_or_else(|| format!("expected a finite number above 0, got {s:?}"))
+    parse_number(s, |x| x.is_finite() && x > 0.0, "a finite number above 0")
 }
 
 /// `--fov`: radians in (0, pi).
 fn parse_fov(s: &str) -> Result<f32> {
-    s.trim()
-        .parse::<f32>()
-        .ok()
-        .filter(|x| *x > 0.0 && *x < std::f32::consts::PI)
-        .ok_or_else(|| format!("expected radians in (0, 3.1416), e.g. 0.8, got {s:?}"))
+    parse_number(s, |x| x > 0.0 && x < std::f32::consts::PI, "radians in (0, 3.1416), e.g. 0.8")
 }
 
 /// `--specular`'s exponent: a finite number above 0.
 fn parse_exponent(s: &str) -> Result<f32> {
-    s.trim()
-        .parse::<f32>()
-        .ok()
-        .filter(|e| e.is_finite() && *e > 0.0)
-        .ok_or_else(|| format!("expected a finite exponent above 0, e.g. 64, got {s:?}"))
+    parse_number(s, |x| x.is_finite() && x > 0.0, "a finite exponent above 0, e.g. 64")
 }
 
 fn parse_rgb(s: &str) -> Result<[u8; 3]> {
