@@ -10,6 +10,11 @@ use super::mesh::Mesh;
 use super::texel::{Texture, TextureFormat};
 use crate::math::{Mat4, Vec3};
 
+/// Where a draw's world matrix lies in a model's bytes (validated finite by `parse`): see
+/// [`Model::placed_draws`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct WorldAt(usize);
+
 // ---------------------------------------------------------------------------------------------
 // Validation helpers used by `parse`.
 
@@ -321,11 +326,25 @@ impl<'a> Model<'a> {
     /// Everything to draw: each mesh with its own world matrix, then each instance.
     pub fn draws(&self) -> impl Iterator<Item = (Mesh<'a>, Mat4)> + 'a {
         let model = *self;
-        let own = self.meshes().map(|m| (m, m.world()));
-        let inst = (0..self.instance_count())
-            .filter_map(move |i| model.instance(i))
-            .filter_map(move |(m, world)| Some((model.mesh(m)?, world)));
+        self.placed_draws().map(move |(m, world)| (m, model.world(world)))
+    }
+
+    /// [`Model::draws`] with where each world matrix lies instead of the matrix: a draw reads it
+    /// when it needs it ([`Model::world`]) and holds no copy while it draws (stack).
+    pub(crate) fn placed_draws(&self) -> impl Iterator<Item = (Mesh<'a>, WorldAt)> + 'a {
+        let model = *self;
+        let own = self.meshes().map(|m| (m, WorldAt(m.at + mesh::WORLD.start)));
+        let inst = (0..self.instance_count()).filter_map(move |i| {
+            let at = model.record(header::INSTANCES, header::INSTANCE_COUNT, instance::LEN, i)?;
+            Some((model.mesh(u16_at(model.data, at) as usize)?, WorldAt(at + instance::WORLD.start)))
+        });
         own.chain(inst)
+    }
+
+    /// The world matrix at `world` (from [`Model::placed_draws`]).
+    #[must_use]
+    pub(crate) fn world(&self, world: WorldAt) -> Mat4 {
+        affine_at(self.data, world.0)
     }
 
     /// World-space sphere `(centre, radius)` around every draw's bounding sphere, or `None`

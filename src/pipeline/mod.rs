@@ -512,12 +512,12 @@ impl<const L: usize> Transforms<L> {
 }
 
 impl<'a, const L: usize> DrawSetup<'a, L> {
-    /// The draw of `mesh` placed by `transform · world`. Not inlined, and the matrices by
-    /// reference: their product and temporaries stay out of the caller's frame, which lives on
+    /// The draw of `mesh` placed by `place()` (`transform · world`). Not inlined, and the
+    /// matrix made here: it and its temporaries stay out of the caller's frame, which lives on
     /// under the rasterizer.
     #[inline(never)]
-    pub(crate) fn new(ctx: &Context<'_, L>, mesh: Mesh<'a>, (transform, world): (&Mat4, &Mat4)) -> Self {
-        let world = *transform * *world;
+    pub(crate) fn new(ctx: &Context<'_, L>, mesh: Mesh<'a>, place: impl FnOnce() -> Mat4) -> Self {
+        let world = place();
         let flip = Mat3::from_mat4(world).determinant() < 0.0;
         Self::with(Some(Transforms::new(ctx, &mesh, &world)), mesh, flip)
     }
@@ -550,10 +550,11 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     ctx: &Context<'_, L>,
     model: &Model<'_>,
     mesh: &Mesh<'_>,
-    placement: (&Mat4, &Mat4),
+    place: impl Fn() -> Mat4 + Copy,
     ((mut rows, vertices), unclipped): (Caches<'_>, Option<bool>),
-) -> (Stats, Option<bool>) {
-    let mut stats = Stats { triangles_submitted: mesh.triangle_count(), ..Stats::default() };
+    stats: &mut Stats,
+) -> Option<bool> {
+    stats.triangles_submitted = stats.triangles_submitted.saturating_add(mesh.triangle_count());
     // The cache holds one set of texel coordinates, and nothing Phong needs.
     let scale = uniform_texel_scale(ctx, model, mesh).filter(|_| ctx.opts.shading != Shading::Phong);
     // A band after the first whose draw has all its vertices `unclipped` in the cache fills
@@ -568,14 +569,14 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         None => {
             // `unclipped`: an earlier band of this frame found the mesh in view (the same
             // test, for the same camera and transform).
-            if unclipped.is_none() && !in_view(ctx, mesh, placement) {
-                stats.culled_frustum_mesh = mesh.triangle_count();
+            if unclipped.is_none() && !in_view(ctx, mesh, place) {
+                stats.culled_frustum_mesh = stats.culled_frustum_mesh.saturating_add(mesh.triangle_count());
                 if let Some(rows) = rows {
                     rows.fill(TriangleRows::EMPTY);
                 }
-                return (stats, None);
+                return None;
             }
-            DrawSetup::new(ctx, *mesh, placement)
+            DrawSetup::new(ctx, *mesh, place)
         }
     };
     let mut filled_unclipped = false;
@@ -590,9 +591,9 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
         let variant = surface.lit.map(|lit| fragment::variant(ctx, &surface, lit));
         let seen = rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize));
-        triangles::draw_range(band, ctx, &setup, (range, seen), (&surface, variant), &mut stats);
+        triangles::draw_range(band, ctx, &setup, (range, seen), (&surface, variant), stats);
     }
-    (stats, filled_unclipped.then_some(setup.flip))
+    filled_unclipped.then_some(setup.flip)
 }
 
 /// A draw's rows and vertices in the scratch (see [`Scratch::for_draw`]).
@@ -624,12 +625,13 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
 ) -> Stats {
     let mut stats = Stats::default();
     let (mut triangles, mut vertices) = (0usize, 0usize);
-    for (d, (mesh, world)) in model.draws().enumerate() {
+    // The world matrix read where it is needed, not held here while the draw runs (stack).
+    for (d, (mesh, world)) in model.placed_draws().enumerate() {
         let (nt, nv) = (mesh.triangle_count() as usize, mesh.vertex_count() as usize);
         let unclipped = scratch.unclipped(d);
         let caches = scratch.for_draw(triangles..triangles.saturating_add(nt), vertices..vertices.saturating_add(nv));
-        let (s, filled_unclipped) = draw_mesh_with(band, ctx, model, &mesh, (transform, &world), (caches, unclipped));
-        stats += s;
+        let place = || *transform * model.world(world);
+        let filled_unclipped = draw_mesh_with(band, ctx, model, &mesh, place, (caches, unclipped), &mut stats);
         if let Some(flip) = filled_unclipped {
             scratch.set_unclipped(d, flip);
         }
@@ -641,11 +643,11 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
     stats
 }
 
-/// Whether `mesh` placed by `transform · world` may be in view (see [`sphere_visible`]). Not
-/// inlined, for the same reason as [`DrawSetup::new`].
+/// Whether `mesh` placed by `place()` may be in view (see [`sphere_visible`]). Not inlined, for
+/// the same reason as [`DrawSetup::new`].
 #[inline(never)]
-fn in_view<const L: usize>(ctx: &Context<'_, L>, mesh: &Mesh<'_>, (transform, world): (&Mat4, &Mat4)) -> bool {
-    sphere_visible(&ctx.frame.vp, &(*transform * *world), mesh.bounding_sphere())
+fn in_view<const L: usize>(ctx: &Context<'_, L>, mesh: &Mesh<'_>, place: impl FnOnce() -> Mat4) -> bool {
+    sphere_visible(&ctx.frame.vp, &place(), mesh.bounding_sphere())
 }
 
 /// Whether a local-space bounding sphere, placed by `world`, may be inside the view frustum.

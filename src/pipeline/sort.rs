@@ -45,7 +45,7 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
             current = model
                 .draws()
                 .nth(e.draw as usize)
-                .map(|(mesh, world)| (e.draw, DrawSetup::new(ctx, mesh, (&transform, &world))));
+                .map(|(mesh, world)| (e.draw, DrawSetup::new(ctx, mesh, || transform * world)));
         }
         let Some((_, setup)) = &current else { continue };
         stats.triangles_submitted = stats.triangles_submitted.saturating_add(1);
