@@ -333,12 +333,25 @@ impl<'a> Model<'a> {
     /// when it needs it ([`Model::world`]) and holds no copy while it draws (stack).
     pub(crate) fn placed_draws(&self) -> impl Iterator<Item = (Mesh<'a>, WorldAt)> + 'a {
         let model = *self;
-        let own = self.meshes().map(|m| (m, WorldAt(m.at + mesh::WORLD.start)));
-        let inst = (0..self.instance_count()).filter_map(move |i| {
-            let at = model.record(header::INSTANCES, header::INSTANCE_COUNT, instance::LEN, i)?;
-            Some((model.mesh(u16_at(model.data, at) as usize)?, WorldAt(at + instance::WORLD.start)))
-        });
-        own.chain(inst)
+        (0..self.draw_count()).filter_map(move |d| model.placed_draw(d))
+    }
+
+    /// How many draws [`Model::draws`] yields: the meshes, then the instances (every one:
+    /// `parse` checked their references).
+    pub(crate) fn draw_count(&self) -> usize {
+        self.mesh_count().saturating_add(self.instance_count())
+    }
+
+    /// Draw `d` of [`Model::placed_draws`] (`None` past the last): a loop over draws by index
+    /// keeps no iterator's state in the draw's frame (stack).
+    pub(crate) fn placed_draw(&self, d: usize) -> Option<(Mesh<'a>, WorldAt)> {
+        match d.checked_sub(self.mesh_count()) {
+            None => self.mesh(d).map(|m| (m, WorldAt(m.at + mesh::WORLD.start))),
+            Some(i) => {
+                let at = self.record(header::INSTANCES, header::INSTANCE_COUNT, instance::LEN, i)?;
+                Some((self.mesh(u16_at(self.data, at) as usize)?, WorldAt(at + instance::WORLD.start)))
+            }
+        }
     }
 
     /// The world matrix at `world` (from [`Model::placed_draws`]).

@@ -464,28 +464,34 @@ pub(crate) struct DrawSetup<'a, const L: usize> {
 
 /// What a draw transforms and lights vertices with: matrices, and their integer forms.
 pub(crate) struct Transforms<const L: usize> {
-    pub(crate) mvp: Mat4,
+    pub(crate) clip: ClipTransform,
     pub(crate) model_q: Mat4,
     pub(crate) normals: Mat3,
     /// `normals` is a rotation (to 1e-6): stored unit normals stay unit, no normalising.
     pub(crate) rotation: bool,
-    /// The integer transform and the bounding sphere it maps float positions into, with
-    /// [`RenderOptions::fixed_vertices`].
-    pub(crate) fixed: Option<(FixedTransform, (Vec3, f32))>,
     /// Gouraud vertex light in integers, whenever the lights allow it (see
     /// [`PreparedLights::fixed`]) and the normal matrix is a rotation; on every target, as it
     /// costs fewer instructions than f32 even with an FPU.
     pub(crate) fixed_lights: Option<FixedLights<L>>,
 }
 
+/// How a draw's vertices reach clip space: one of two, never both (stack: the draw's frame lives
+/// on under the rasterizer).
+pub(crate) enum ClipTransform {
+    /// The model-view-projection matrix, in f32.
+    Float(Mat4),
+    /// The integer transform and the bounding sphere it maps float positions into, with
+    /// [`RenderOptions::fixed_vertices`].
+    Fixed(FixedTransform, (Vec3, f32)),
+}
+
 impl<const L: usize> Transforms<L> {
     /// What [`DrawSetup::transforms`] gives a draw that has none (it never asks: see there).
     const NONE: Self = Transforms {
-        mvp: Mat4::IDENTITY,
+        clip: ClipTransform::Float(Mat4::IDENTITY),
         model_q: Mat4::IDENTITY,
         normals: Mat3::IDENTITY,
         rotation: true,
-        fixed: None,
         fixed_lights: None,
     };
 
@@ -496,13 +502,16 @@ impl<const L: usize> Transforms<L> {
         let (mvp, sphere) = (ctx.frame.vp * model_q, mesh.bounding_sphere());
         let fixed = ctx.opts.fixed_vertices.then_some(()).and_then(|()| {
             let (offset, step) = mesh.arrays().int_position_frame(sphere);
-            Some((FixedTransform::new(&mvp, offset, step)?, sphere))
+            FixedTransform::new(&mvp, offset, step)
         });
+        let clip = match fixed {
+            Some(fixed) => ClipTransform::Fixed(fixed, sphere),
+            None => ClipTransform::Float(mvp),
+        };
         let rotation = crate::math::is_rotation(&normals);
         let integer_light = rotation && !ctx.frame.lit_by_position;
         Transforms {
-            mvp,
-            fixed,
+            clip,
             fixed_lights: integer_light.then(|| ctx.frame.vertex_lights.fixed(&normals)).flatten(),
             model_q,
             normals,
@@ -585,15 +594,31 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         setup.vertices = Some(cache);
     }
     for sub in mesh.submeshes() {
-        let material = material_of(model, &sub);
-        let sampler = ctx.sampler(model, mesh, &material);
-        let surface = Surface::new(&material, sampler.as_ref(), ctx, &setup);
-        let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
-        let variant = surface.lit.map(|lit| fragment::variant(ctx, &surface, lit));
-        let seen = rows.as_deref_mut().and_then(|r| r.get_mut(range.start as usize..range.end as usize));
-        triangles::draw_range(band, ctx, &setup, (range, seen), (&surface, variant), stats);
+        let (first, count) = (sub.first_triangle as usize, sub.triangle_count as usize);
+        let seen = rows.as_deref_mut().and_then(|r| r.get_mut(first..first.saturating_add(count)));
+        draw_submesh(band, ctx, model, &setup, &sub, seen, stats);
     }
     filled_unclipped.then_some(setup.flip)
+}
+
+/// Draws sub-mesh `sub` of draw `setup`, with `seen` its triangles' rows in the scratch when it
+/// has them. Not inlined: its surface and their temporaries stay out of the draw's frame.
+#[inline(never)]
+fn draw_submesh<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    model: &Model<'_>,
+    setup: &DrawSetup<'_, L>,
+    sub: &SubMesh,
+    seen: Option<&mut [TriangleRows]>,
+    stats: &mut Stats,
+) {
+    let material = material_of(model, sub);
+    let sampler = ctx.sampler(model, &setup.mesh, &material);
+    let surface = Surface::new(&material, sampler.as_ref(), ctx, setup);
+    let range = sub.first_triangle..sub.first_triangle + sub.triangle_count;
+    let variant = surface.lit.map(|lit| fragment::variant(ctx, &surface, lit));
+    triangles::draw_range(band, ctx, setup, (range, seen), (&surface, variant), stats);
 }
 
 /// A draw's rows and vertices in the scratch (see [`Scratch::for_draw`]).
@@ -626,7 +651,8 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
     let mut stats = Stats::default();
     let (mut triangles, mut vertices) = (0usize, 0usize);
     // The world matrix read where it is needed, not held here while the draw runs (stack).
-    for (d, (mesh, world)) in model.placed_draws().enumerate() {
+    for d in 0..model.draw_count() {
+        let Some((mesh, world)) = model.placed_draw(d) else { continue };
         let (nt, nv) = (mesh.triangle_count() as usize, mesh.vertex_count() as usize);
         let unclipped = scratch.unclipped(d);
         let caches = scratch.for_draw(triangles..triangles.saturating_add(nt), vertices..vertices.saturating_add(nv));

@@ -8,9 +8,11 @@ use super::clip::{outcode, ClipVertex, NEEDS_CLIP, NOT_FINITE};
 use super::raster::ScreenVertex;
 use super::scratch::{TransformedVertex, UNKNOWN_INV_W};
 use super::varyings::{ClipVaryings, PixelLit, ScreenVaryings, VertexLit, MAX_VARYINGS};
-use super::{Context, DrawSetup, Shading};
+use super::{ClipTransform, Context, DrawSetup, Shading};
 use crate::fixed::{fdot4_floor, FDot16, FDot4, FDOT16_ONE};
-use crate::math::{normalize_or_zero, offset_add, times_power_of_two, u16_times, FixedTransform, Vec3, Vec4, F32};
+use crate::math::{
+    normalize_or_zero, offset_add, times_power_of_two, u16_times, FixedTransform, Mat4, Vec3, Vec4, F32,
+};
 use crate::texture::Sampler;
 
 mod integer;
@@ -59,26 +61,16 @@ impl Projected {
 /// Vertex `i` in clip space.
 #[inline(always)]
 pub(crate) fn clip_position<const L: usize>(s: &DrawSetup<'_, L>, i: u32) -> Vec4 {
-    match &s.transforms().fixed {
-        Some(fixed) => fixed_clip_position(s, fixed, i),
-        None => float_clip_position(s, i),
+    match &s.transforms().clip {
+        ClipTransform::Fixed(t, sphere) => t.apply(s.arrays.position_int(i, *sphere)),
+        ClipTransform::Float(mvp) => float_clip_position(s, mvp, i),
     }
 }
 
-/// [`clip_position`] with the integer transform `t` and bounding sphere `sphere`.
+/// [`clip_position`] with the f32 transform `mvp`.
 #[inline(always)]
-fn fixed_clip_position<const L: usize>(
-    s: &DrawSetup<'_, L>,
-    (t, sphere): &(FixedTransform, (Vec3, f32)),
-    i: u32,
-) -> Vec4 {
-    t.apply(s.arrays.position_int(i, *sphere))
-}
-
-/// [`clip_position`] without the integer transform.
-#[inline(always)]
-fn float_clip_position<const L: usize>(s: &DrawSetup<'_, L>, i: u32) -> Vec4 {
-    s.transforms().mvp * s.arrays.position_stored(i).extend(1.0)
+fn float_clip_position<const L: usize>(s: &DrawSetup<'_, L>, mvp: &Mat4, i: u32) -> Vec4 {
+    *mvp * s.arrays.position_stored(i).extend(1.0)
 }
 
 /// Vertex `i` in world space.
@@ -141,9 +133,9 @@ const WHITE: VertexLight = [u16::MAX, u16::MAX, u16::MAX, 0];
 /// cache.
 #[inline(never)]
 pub(crate) fn projected<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>, i: u32) -> Projected {
-    match &s.transforms().fixed {
-        Some(fixed) => fixed_projected(ctx, s, fixed, i),
-        None => Projected::new(ctx, float_clip_position(s, i)),
+    match &s.transforms().clip {
+        ClipTransform::Fixed(t, sphere) => fixed_projected(ctx, s, (t, sphere), i),
+        ClipTransform::Float(mvp) => Projected::new(ctx, float_clip_position(s, mvp, i)),
     }
 }
 
@@ -155,7 +147,7 @@ pub(crate) fn projected<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, 
 fn fixed_projected<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_, L>,
-    (t, sphere): &(FixedTransform, (Vec3, f32)),
+    (t, sphere): (&FixedTransform, &(Vec3, f32)),
     i: u32,
 ) -> Projected {
     let q = s.arrays.position_int(i, *sphere);
@@ -188,10 +180,10 @@ pub(crate) fn fill_cache<const L: usize>(
     }
     // One loop per case, its tests made once: the loops keep more of the matrices in registers.
     let t = s.transforms();
-    match &t.fixed {
-        Some(fixed) => fill_fixed_positions(ctx, s, fixed, cache, scale),
-        None => {
-            fill_positions(s, cache, scale, |i| Projected::new(ctx, t.mvp * s.arrays.position_stored(i).extend(1.0)))
+    match &t.clip {
+        ClipTransform::Fixed(fixed, sphere) => fill_fixed_positions(ctx, s, (fixed, sphere), cache, scale),
+        ClipTransform::Float(mvp) => {
+            fill_positions(s, cache, scale, |i| Projected::new(ctx, float_clip_position(s, mvp, i)))
         }
     }
     match ctx.opts.shading {
@@ -221,7 +213,7 @@ pub(crate) fn is_filled(cache: &[TransformedVertex]) -> bool {
 fn fill_fixed_positions<const L: usize>(
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_, L>,
-    fixed: &(FixedTransform, (Vec3, f32)),
+    fixed: (&FixedTransform, &(Vec3, f32)),
     cache: &mut [TransformedVertex],
     scale: (f32, f32),
 ) {
