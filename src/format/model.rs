@@ -309,8 +309,13 @@ impl<'a> Model<'a> {
     /// Instance `i`: `(mesh index, world matrix)`.
     #[must_use]
     pub fn instance(&self, i: usize) -> Option<(usize, Mat4)> {
+        self.placed_instance(i).map(|(mesh, world)| (mesh, self.world(world)))
+    }
+
+    /// [`Model::instance`] with where its world matrix lies instead of the matrix.
+    fn placed_instance(&self, i: usize) -> Option<(usize, WorldAt)> {
         let at = self.record(header::INSTANCES, header::INSTANCE_COUNT, instance::LEN, i)?;
-        Some((u16_at(self.data, at) as usize, affine_at(self.data, at + instance::WORLD.start)))
+        Some((u16_at(self.data, at) as usize, WorldAt(at + instance::WORLD.start)))
     }
 
     /// Triangles and vertices of everything [`Model::draws`] yields (instances counted again):
@@ -348,8 +353,8 @@ impl<'a> Model<'a> {
         match d.checked_sub(self.mesh_count()) {
             None => self.mesh(d).map(|m| (m, WorldAt(m.at + mesh::WORLD.start))),
             Some(i) => {
-                let at = self.record(header::INSTANCES, header::INSTANCE_COUNT, instance::LEN, i)?;
-                Some((self.mesh(u16_at(self.data, at) as usize)?, WorldAt(at + instance::WORLD.start)))
+                let (mesh, world) = self.placed_instance(i)?;
+                Some((self.mesh(mesh)?, world))
             }
         }
     }
