@@ -5,6 +5,7 @@
 use core::ops::Range;
 
 use super::layout::*;
+use super::model::WorldAt;
 use crate::math::{Mat4, Vec3};
 
 /// One mesh of a [`Model`](super::Model).
@@ -46,7 +47,12 @@ impl<'a> Mesh<'a> {
     /// The mesh's world matrix.
     #[must_use]
     pub fn world(&self) -> Mat4 {
-        affine_at(self.data, self.at + mesh::WORLD.start)
+        affine_at(self.data, self.world_at().0)
+    }
+
+    /// Where the mesh's world matrix lies in the model's bytes (see `Model::placed_draws`).
+    pub(crate) fn world_at(&self) -> WorldAt {
+        WorldAt(self.at + mesh::WORLD.start)
     }
 
     /// The matrix that turns a stored position ([`Mesh::position_stored`]) into a local one.

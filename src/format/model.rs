@@ -13,7 +13,7 @@ use crate::math::{Mat4, Vec3};
 /// Where a draw's world matrix lies in a model's bytes (validated finite by `parse`): see
 /// [`Model::placed_draws`].
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct WorldAt(usize);
+pub(crate) struct WorldAt(pub(super) usize);
 
 // ---------------------------------------------------------------------------------------------
 // Validation helpers used by `parse`.
@@ -351,7 +351,7 @@ impl<'a> Model<'a> {
     /// keeps no iterator's state in the draw's frame (stack).
     pub(crate) fn placed_draw(&self, d: usize) -> Option<(Mesh<'a>, WorldAt)> {
         match d.checked_sub(self.mesh_count()) {
-            None => self.mesh(d).map(|m| (m, WorldAt(m.at + mesh::WORLD.start))),
+            None => self.mesh(d).map(|m| (m, m.world_at())),
             Some(i) => {
                 let (mesh, world) = self.placed_instance(i)?;
                 Some((self.mesh(mesh)?, world))

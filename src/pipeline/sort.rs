@@ -43,9 +43,8 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
     for e in list.iter() {
         if current.as_ref().is_none_or(|(d, _)| *d != e.draw) {
             current = model
-                .draws()
-                .nth(e.draw as usize)
-                .map(|(mesh, world)| (e.draw, DrawSetup::new(ctx, mesh, || transform * world)));
+                .placed_draw(e.draw as usize)
+                .map(|(mesh, world)| (e.draw, DrawSetup::new(ctx, mesh, || transform * model.world(world))));
         }
         let Some((_, setup)) = &current else { continue };
         stats.triangles_submitted = stats.triangles_submitted.saturating_add(1);
