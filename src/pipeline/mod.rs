@@ -33,6 +33,7 @@ mod triangles;
 mod varyings;
 mod vertex;
 
+use scratch::DrawRows;
 pub use scratch::{Scratch, SortEntry, TransformedVertex, TriangleRows};
 
 pub use clip::{clip_triangle, ClipResult, ClipVertex, GuardBand, Polygon};
@@ -280,24 +281,16 @@ impl<'f, const L: usize> Renderer<'f, L> {
     /// Lets this draw use `scratch`'s rows and vertices if they are its own (see
     /// [`Scratch::claim`]). Not inlined: the owner's record stays off the draw's stack frame.
     #[inline(never)]
-    fn claim(&self, scratch: &mut Scratch<'_>, model: &Model<'_>, transform: &Mat4, ctx: &Context<'_, L>) {
-        scratch.claim(self.owner(model, transform, ctx));
+    fn claim(&self, scratch: &mut Scratch<'_>, model: &Model<'_>, transform: &Mat4) {
+        scratch.claim(self.owner(model, transform));
     }
 
-    /// What a [`Scratch`]'s rows and vertices computed by this draw depend on.
-    fn owner(&self, model: &Model<'_>, transform: &Mat4, ctx: &Context<'_, L>) -> scratch::Owner {
-        let (o, l) = (&self.frame.opts, self.frame.lights);
-        let mut d = scratch::Digest::new();
+    /// What a [`Scratch`]'s rows and vertices computed by this draw depend on: the frame's
+    /// constants (digested once, see [`FrameConstants::digest`]), the model and the transform.
+    fn owner(&self, model: &Model<'_>, transform: &Mat4) -> scratch::Owner {
+        let mut d = scratch::Digest::resume(self.frame.digest);
         d.word(model.bytes().as_ptr() as usize as u32).word(model.bytes().len() as u32);
-        d.floats(&transform.to_cols_array()).floats(&ctx.frame.vp.to_cols_array());
-        let wire = o.wire_color.map_or(1 << 24, |[r, g, b]| u32::from_le_bytes([r, g, b, 0]));
-        let flags = [o.textures, o.dither, o.fixed_vertices].iter().fold(0, |f, &b| f << 1 | u32::from(b));
-        d.word(o.shading as u32).word(o.mode as u32).word(o.filter as u32).word(o.order as u32);
-        d.word(o.subspan).word(wire).word(flags);
-        d.floats(&l.ambient.to_array()).floats(&l.specular.to_array()).floats(&[l.shininess]);
-        for x in &l.lights {
-            d.word(x.kind as u32).floats(&x.vector.to_array()).floats(&x.diffuse.to_array()).floats(&[x.intensity]);
-        }
+        d.floats(&transform.to_cols_array());
         scratch::Owner(d.finish())
     }
 
@@ -341,7 +334,7 @@ impl<'f, const L: usize> Renderer<'f, L> {
         scratch: &mut Scratch<'_>,
     ) -> Stats {
         let ctx = Context::new(band, &self.frame);
-        self.claim(scratch, model, &transform, &ctx);
+        self.claim(scratch, model, &transform);
         draw_all(band, model, &transform, &ctx, scratch)
     }
 
@@ -379,12 +372,17 @@ pub(crate) struct FrameConstants<'l, const L: usize> {
     /// comes from the same operations on the same values.
     pub(crate) grey_light: bool,
     pub(crate) opts: RenderOptions,
+    /// The digest of what a [`Scratch`]'s rows and vertices depend on that every draw with
+    /// these constants shares (see [`Renderer::owner`]): made once, not once a band.
+    digest: u64,
 }
 
 impl<'l, const L: usize> FrameConstants<'l, L> {
     fn new(camera: &Camera, lights: &'l Lights<L>, opts: RenderOptions) -> Self {
+        let vp = camera.view_projection();
         FrameConstants {
-            vp: camera.view_projection(),
+            digest: Self::digest(&vp, lights, &opts),
+            vp,
             eye: camera.eye,
             lights,
             vertex_lights: lights.prepared(),
@@ -399,6 +397,24 @@ impl<'l, const L: usize> FrameConstants<'l, L> {
             grey_light: is_grey(lights.ambient) && lights.lights.iter().all(|l| is_grey(l.diffuse)),
             opts,
         }
+    }
+}
+
+impl<const L: usize> FrameConstants<'_, L> {
+    /// The digest of the camera's matrix `vp`, the lights and the options (see
+    /// [`FrameConstants::digest`](#structfield.digest)).
+    fn digest(vp: &Mat4, l: &Lights<L>, o: &RenderOptions) -> u64 {
+        let mut d = scratch::Digest::new();
+        d.floats(&vp.to_cols_array());
+        let wire = o.wire_color.map_or(1 << 24, |[r, g, b]| u32::from_le_bytes([r, g, b, 0]));
+        let flags = [o.textures, o.dither, o.fixed_vertices].iter().fold(0, |f, &b| f << 1 | u32::from(b));
+        d.word(o.shading as u32).word(o.mode as u32).word(o.filter as u32).word(o.order as u32);
+        d.word(o.subspan).word(wire).word(flags);
+        d.floats(&l.ambient.to_array()).floats(&l.specular.to_array()).floats(&[l.shininess]);
+        for x in &l.lights {
+            d.word(x.kind as u32).floats(&x.vector.to_array()).floats(&x.diffuse.to_array()).floats(&[x.intensity]);
+        }
+        d.finish()
     }
 }
 
@@ -581,7 +597,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
             if unclipped.is_none() && !in_view(ctx, mesh, place) {
                 stats.culled_frustum_mesh = stats.culled_frustum_mesh.saturating_add(mesh.triangle_count());
                 if let Some(rows) = rows {
-                    rows.fill(TriangleRows::EMPTY);
+                    rows.rows.fill(TriangleRows::EMPTY);
                 }
                 return None;
             }
@@ -595,7 +611,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     }
     for sub in mesh.submeshes() {
         let (first, count) = (sub.first_triangle as usize, sub.triangle_count as usize);
-        let seen = rows.as_deref_mut().and_then(|r| r.get_mut(first..first.saturating_add(count)));
+        let seen = rows.as_mut().and_then(|r| r.part(first, count));
         draw_submesh(band, ctx, model, &setup, &sub, seen, stats);
     }
     filled_unclipped.then_some(setup.flip)
@@ -610,7 +626,7 @@ fn draw_submesh<C: FrameColor, D: DepthBuffer, const L: usize>(
     model: &Model<'_>,
     setup: &DrawSetup<'_, L>,
     sub: &SubMesh,
-    seen: Option<&mut [TriangleRows]>,
+    seen: Option<DrawRows<'_>>,
     stats: &mut Stats,
 ) {
     let material = material_of(model, sub);
@@ -622,7 +638,7 @@ fn draw_submesh<C: FrameColor, D: DepthBuffer, const L: usize>(
 }
 
 /// A draw's rows and vertices in the scratch (see [`Scratch::for_draw`]).
-type Caches<'s> = (Option<&'s mut [TriangleRows]>, Option<&'s mut [TransformedVertex]>);
+type Caches<'s> = (Option<DrawRows<'s>>, Option<&'s mut [TransformedVertex]>);
 
 /// The material sub-mesh `sub` draws with (the default one when it has none).
 fn material_of(model: &Model<'_>, sub: &SubMesh) -> Material {
@@ -666,6 +682,7 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
         triangles = triangles.saturating_add(nt);
         vertices = vertices.saturating_add(nv);
     }
+    scratch.summarise_rows(triangles, ctx.window.row_start <= 0 && ctx.window.row_end >= i32::from(ctx.height));
     stats
 }
 

@@ -13,7 +13,8 @@ use crate::pipeline::raster::{first_centre, last_centre, ScreenVertex, MAX_EXTEN
 /// Memory the caller lends [`Renderer::draw`](super::Renderer::draw), all of it optional:
 /// - rows ([`Scratch::with_rows`], 4 bytes a triangle counting instances): when a frame is drawn
 ///   in bands, the bands after the first skip the triangles that cannot touch them before any
-///   vertex work;
+///   vertex work (and, where a run of neighbouring triangles all miss a band, without looking
+///   at each: the scratch keeps the rows of each 64th of the triangles together, 256 bytes);
 /// - vertices ([`Scratch::with_vertices`], 28 bytes a vertex counting instances, see
 ///   [`Model::draw_counts`](crate::Model::draw_counts)): every vertex is transformed, projected
 ///   and lit once a frame, however many triangles and bands share it (not for Phong shading, nor
@@ -29,6 +30,12 @@ use crate::pipeline::raster::{first_centre, last_centre, ScreenVertex, MAX_EXTEN
 /// their speed: give each model its own scratch.
 pub struct Scratch<'s> {
     rows: &'s mut [TriangleRows],
+    /// The rows of each chunk of `1 << chunk_shift` neighbouring triangles' rows together (see
+    /// [`RowChunks`]), once `summarised`.
+    chunks: [TriangleRows; ROW_CHUNKS],
+    chunk_shift: u8,
+    /// Whether `chunks` hold the rows learnt this frame (see [`Scratch::summarise_rows`]).
+    summarised: bool,
     vertices: &'s mut [TransformedVertex],
     sort: &'s mut [SortEntry],
     /// What the rows and vertices were computed for (the first draw since they were reset).
@@ -57,6 +64,11 @@ impl Digest {
         Digest(0xcbf2_9ce4_8422_2325)
     }
 
+    /// Goes on from a digest that [`Digest::finish`] gave.
+    pub(crate) fn resume(digest: u64) -> Self {
+        Digest(digest)
+    }
+
     pub(crate) fn word(&mut self, w: u32) -> &mut Self {
         self.0 = (self.0 ^ u64::from(w)).wrapping_mul(0x0100_0000_01b3);
         self
@@ -76,11 +88,30 @@ impl Scratch<'static> {
     /// No scratch memory: every band does all the work, and back-to-front order is refused.
     #[must_use]
     pub fn none() -> Self {
-        Scratch { rows: &mut [], vertices: &mut [], sort: &mut [], owner: None, owned: false, unclipped: 0, flipped: 0 }
+        Scratch::of(&mut [], &mut [], &mut [])
     }
 }
 
 impl<'s> Scratch<'s> {
+    /// A scratch of these rows, vertices and sort entries, for a new frame (rows and vertices
+    /// not reset).
+    fn of(rows: &'s mut [TriangleRows], vertices: &'s mut [TransformedVertex], sort: &'s mut [SortEntry]) -> Self {
+        // The smallest chunks that `ROW_CHUNKS` of cover all the rows, of at least 8 triangles.
+        let chunk_shift = (3..usize::BITS - 1).find(|&s| rows.len() >> s < ROW_CHUNKS).unwrap_or(usize::BITS - 1) as u8;
+        Scratch {
+            rows,
+            chunks: [TriangleRows::UNKNOWN; ROW_CHUNKS],
+            chunk_shift,
+            summarised: false,
+            vertices,
+            sort,
+            owner: None,
+            owned: false,
+            unclipped: 0,
+            flipped: 0,
+        }
+    }
+
     /// Adds a row record of `rows` (reset), one entry a triangle.
     #[must_use]
     pub fn with_rows<'t>(self, rows: &'t mut [TriangleRows]) -> Scratch<'t>
@@ -88,7 +119,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         rows.fill(TriangleRows::UNKNOWN);
-        Scratch { rows, vertices: self.vertices, sort: self.sort, owner: None, owned: false, unclipped: 0, flipped: 0 }
+        Scratch::of(rows, self.vertices, self.sort)
     }
 
     /// Adds a vertex cache of `vertices` (reset), one entry a vertex.
@@ -98,7 +129,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         vertices.fill(TransformedVertex::UNKNOWN);
-        Scratch { rows: self.rows, vertices, sort: self.sort, owner: None, owned: false, unclipped: 0, flipped: 0 }
+        Scratch::of(self.rows, vertices, self.sort)
     }
 
     /// Adds the sort list of [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront), one
@@ -108,15 +139,7 @@ impl<'s> Scratch<'s> {
     where
         's: 't,
     {
-        Scratch {
-            rows: self.rows,
-            vertices: self.vertices,
-            sort,
-            owner: self.owner,
-            owned: false,
-            unclipped: self.unclipped,
-            flipped: self.flipped,
-        }
+        Scratch { sort, owned: false, ..self }
     }
 
     /// Forgets the rows and vertices of the last frame (call at the start of a frame).
@@ -124,7 +147,7 @@ impl<'s> Scratch<'s> {
         self.rows.fill(TriangleRows::UNKNOWN);
         self.vertices.fill(TransformedVertex::UNKNOWN);
         self.owner = None;
-        (self.unclipped, self.flipped) = (0, 0);
+        (self.unclipped, self.flipped, self.summarised) = (0, 0, false);
     }
 
     /// Starts a draw for `owner`: it may use the rows and vertices when it is the first draw
@@ -140,11 +163,29 @@ impl<'s> Scratch<'s> {
         &mut self,
         triangles: Range<usize>,
         vertices: Range<usize>,
-    ) -> (Option<&mut [TriangleRows]>, Option<&mut [TransformedVertex]>) {
+    ) -> (Option<DrawRows<'_>>, Option<&mut [TransformedVertex]>) {
         if !self.owned {
             return (None, None);
         }
-        (self.rows.get_mut(triangles), self.vertices.get_mut(vertices))
+        let chunks = self.summarised.then_some(RowChunks { summaries: &self.chunks, shift: self.chunk_shift.into() });
+        let first = triangles.start;
+        let rows = self.rows.get_mut(triangles).map(|rows| DrawRows { rows, first, chunks });
+        (rows, self.vertices.get_mut(vertices))
+    }
+
+    /// Summarises the rows of the first `triangles` triangles chunk by chunk (see
+    /// [`RowChunks`]) once they are all learnt, for the later bands of this frame: called at the
+    /// end of each draw, it does so once a frame, after the first. A band that is the whole
+    /// frame has no later bands to need them.
+    pub(crate) fn summarise_rows(&mut self, triangles: usize, whole_frame: bool) {
+        if self.summarised || !self.owned || whole_frame {
+            return;
+        }
+        let learnt = &self.rows[..triangles.min(self.rows.len())];
+        for (summary, chunk) in self.chunks.iter_mut().zip(learnt.chunks(1 << self.chunk_shift)) {
+            *summary = chunk.iter().fold(TriangleRows::EMPTY, |all, r| all.union(*r));
+        }
+        self.summarised = true;
     }
 
     /// When the owner's draw `d` has its vertices cached, none needing clipping (see
@@ -167,6 +208,48 @@ impl<'s> Scratch<'s> {
     /// The sort list.
     pub(crate) fn sort_entries(&mut self) -> &mut [SortEntry] {
         self.sort
+    }
+}
+
+/// How many chunks of neighbouring triangles' rows a [`Scratch`] summarises: chunks of 8
+/// triangles up to 512 triangles, of 16 up to 1,024, and so on (256 bytes).
+pub(crate) const ROW_CHUNKS: usize = 64;
+
+/// One draw's rows in the scratch (see [`Scratch::for_draw`]): a triangle's rows and, when
+/// summarised, the chunk summaries they lie in.
+pub(crate) struct DrawRows<'s> {
+    pub(crate) rows: &'s mut [TriangleRows],
+    /// Where `rows` start among the scratch's: the index that says a triangle's chunk.
+    pub(crate) first: usize,
+    pub(crate) chunks: Option<RowChunks<'s>>,
+}
+
+impl DrawRows<'_> {
+    /// Its rows `first..first + count`, when it has them.
+    #[inline]
+    pub(crate) fn part(&mut self, first: usize, count: usize) -> Option<DrawRows<'_>> {
+        let rows = self.rows.get_mut(first..first.checked_add(count)?)?;
+        Some(DrawRows { rows, first: self.first + first, chunks: self.chunks })
+    }
+}
+
+/// The rows that each chunk of `1 << shift` neighbouring triangles together may touch (the
+/// union of theirs): a band tests a chunk whole and skips it when it cannot touch it. A mesh's
+/// neighbouring triangles tend to be near each other (exporters keep faces in modelling order):
+/// in the reference frame's eighth bands, 3,014 triangle tests and 366 chunk tests instead of
+/// 6,762 triangle tests.
+#[derive(Clone, Copy)]
+pub(crate) struct RowChunks<'s> {
+    summaries: &'s [TriangleRows; ROW_CHUNKS],
+    pub(crate) shift: u32,
+}
+
+impl RowChunks<'_> {
+    /// Whether the chunk of triangle `at` (an index into the scratch's rows) may touch rows
+    /// `row_start..row_end`.
+    #[inline(always)]
+    pub(crate) fn may_touch(&self, at: usize, row_start: i32, row_end: i32) -> bool {
+        self.summaries.get(at >> self.shift).is_none_or(|r| r.may_touch(row_start, row_end))
     }
 }
 
@@ -203,6 +286,12 @@ impl TriangleRows {
     #[inline(always)]
     pub(crate) fn may_touch(&self, row_start: i32, row_end: i32) -> bool {
         (self.first as i32) < row_end && (self.last as i32) >= row_start
+    }
+
+    /// The rows either may touch.
+    #[inline(always)]
+    fn union(self, other: TriangleRows) -> TriangleRows {
+        TriangleRows { first: self.first.min(other.first), last: self.last.max(other.last) }
     }
 
     /// Rows `floor(min_y)..=floor(max_y)` of the snapped polygon: a superset of the rows whose
@@ -333,5 +422,59 @@ impl TransformedVertex {
     #[inline(always)]
     pub(crate) fn corner_light(&self, flat: Option<&[VertexLight; 3]>, k: usize) -> VertexLight {
         flat.map_or_else(|| self.light(), |l| l[k])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(first: u16, last: u16) -> TriangleRows {
+        TriangleRows { first, last }
+    }
+
+    /// Chunks of 8 rows (the least), each summarised as the union of its triangles' rows (an
+    /// empty triangle adds nothing), and a draw's part of them tested chunk by chunk.
+    #[test]
+    fn chunks_summarise_the_rows_of_their_triangles() {
+        let mut learnt = [TriangleRows::UNKNOWN; 20];
+        let mut scratch = Scratch::none().with_rows(&mut learnt[..]);
+        scratch.claim(Owner(1));
+        // What a first band learns.
+        let draw = scratch.for_draw(0..20, 0..0).0.unwrap();
+        draw.rows.fill(TriangleRows::EMPTY);
+        for (t, r) in [(2, rows(10, 12)), (5, rows(40, 41)), (9, rows(100, 120)), (19, rows(0, 3))] {
+            draw.rows[t] = r;
+        }
+        // Not until a band that is not the whole frame has drawn.
+        scratch.summarise_rows(20, true);
+        assert!(scratch.for_draw(0..20, 0..0).0.is_some_and(|r| r.chunks.is_none()));
+        scratch.summarise_rows(20, false);
+        assert_eq!(scratch.chunk_shift, 3);
+        assert_eq!(scratch.chunks[..3], [rows(10, 41), rows(100, 120), rows(0, 3)]);
+        assert_eq!(scratch.chunks[3], TriangleRows::UNKNOWN);
+        let mut draw = scratch.for_draw(4..20, 0..0).0.unwrap();
+        let part = draw.part(4, 12).unwrap();
+        assert_eq!((part.first, part.rows.len()), (8, 12));
+        let chunks = part.chunks.unwrap();
+        // Triangle 8's chunk (8..16) touches rows 100..=120 only.
+        assert!(!chunks.may_touch(8, 0, 100) && chunks.may_touch(8, 120, 121) && !chunks.may_touch(8, 121, 200));
+        assert!(chunks.may_touch(19, 3, 4) && !chunks.may_touch(19, 4, 200));
+        // Beyond the summaries (a scratch larger than they cover): never skipped.
+        assert!(chunks.may_touch(usize::MAX, 0, 1));
+    }
+
+    /// Another owner's draw gets no rows, and so no chunks.
+    #[test]
+    fn chunks_are_the_owners_alone() {
+        let mut learnt = [TriangleRows::EMPTY; 8];
+        let mut scratch = Scratch::none().with_rows(&mut learnt[..]);
+        scratch.claim(Owner(1));
+        scratch.summarise_rows(8, false);
+        scratch.claim(Owner(2));
+        assert!(scratch.for_draw(0..8, 0..0).0.is_none());
+        scratch.new_frame();
+        scratch.claim(Owner(2));
+        assert!(scratch.for_draw(0..8, 0..0).0.is_some_and(|r| r.chunks.is_none()));
     }
 }

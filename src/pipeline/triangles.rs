@@ -6,6 +6,7 @@
 use core::ops::Range;
 
 use super::primitive::{common_cache, draw_triangle, Learnt, Surface};
+use super::scratch::DrawRows;
 use super::{fragment, Context, DrawSetup, Shading, Stats, TransformedVertex, TriangleRows};
 use crate::format::U16Triangles;
 use crate::target::{Band, DepthBuffer, FrameColor};
@@ -17,14 +18,14 @@ pub(super) fn draw_range<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_, L>,
-    (range, seen): (Range<u32>, Option<&mut [TriangleRows]>),
+    (range, seen): (Range<u32>, Option<DrawRows<'_>>),
     (surface, variant): (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
     stats: &mut Stats,
 ) {
     match seen {
         // The first band to draw them: every triangle is tested and drawn, learning its rows.
-        Some(seen) if seen.first() == Some(&TriangleRows::UNKNOWN) => {
-            draw_first_band(band, ctx, s, (seen, range.start), (surface, variant), stats);
+        Some(seen) if seen.rows.first() == Some(&TriangleRows::UNKNOWN) => {
+            draw_first_band(band, ctx, s, (seen.rows, range.start), (surface, variant), stats);
         }
         Some(seen) => {
             let band_rows = (ctx.window.row_start, ctx.window.row_end);
@@ -49,9 +50,37 @@ pub(super) fn draw_range<C: FrameColor, D: DepthBuffer, const L: usize>(
 /// Draws (with `draw`) the triangles from `first` on whose rows `seen` may touch rows
 /// `start..end`, learning their rows, and returns how many. Out of line, a loop of its own: in a
 /// band of a frame of many, most triangles are skipped, and the bounds stay in registers. The
-/// triangles drawn are counted, not the ones skipped, so that loop is the test alone.
+/// triangles drawn are counted, not the ones skipped, so that loop is the test alone. A chunk
+/// of triangles whose summary (see [`RowChunks`](super::scratch::RowChunks)) misses the band
+/// is skipped whole.
 #[inline(never)]
 fn draw_touching(
+    seen: DrawRows<'_>,
+    first: u32,
+    band_rows: (i32, i32),
+    stats: &mut Stats,
+    draw: &mut impl FnMut(u32, TriangleRows, &mut Stats) -> TriangleRows,
+) -> u32 {
+    let Some(chunks) = seen.chunks else {
+        return draw_touching_each(seen.rows, first, band_rows, stats, draw);
+    };
+    let (mut rows, mut t, mut at) = (seen.rows, first, seen.first);
+    let mut touched = 0;
+    while !rows.is_empty() {
+        // To the end of `at`'s chunk, or of the rows.
+        let len = ((1 << chunks.shift) - (at & ((1 << chunks.shift) - 1))).min(rows.len());
+        let (chunk, rest) = rows.split_at_mut(len);
+        if chunks.may_touch(at, band_rows.0, band_rows.1) {
+            touched += draw_touching_each(chunk, t, band_rows, stats, draw);
+        }
+        (rows, t, at) = (rest, t.wrapping_add(len as u32), at + len);
+    }
+    touched
+}
+
+/// [`draw_touching`] of rows `seen`, testing every triangle.
+#[inline(always)]
+fn draw_touching_each(
     seen: &mut [TriangleRows],
     first: u32,
     (start, end): (i32, i32),
