@@ -33,7 +33,7 @@ mod triangles;
 mod varyings;
 mod vertex;
 
-use scratch::DrawRows;
+use scratch::DrawChunks;
 pub use scratch::{Scratch, SortEntry, TransformedVertex, TriangleRows};
 
 pub use clip::{clip_triangle, ClipResult, ClipVertex, GuardBand, Polygon};
@@ -476,6 +476,8 @@ pub(crate) struct DrawSetup<'a, const L: usize> {
     pub(crate) arrays: Arrays<'a>,
     /// The draw's filled vertex cache, when it has one (see `vertex::fill_cache`).
     pub(crate) vertices: Option<&'a [TransformedVertex]>,
+    /// The summaries of its rows in the scratch, when made (see `triangles::draw_touching`).
+    pub(crate) chunks: Option<DrawChunks<'a>>,
 }
 
 /// What a draw transforms and lights vertices with: matrices, and their integer forms.
@@ -557,7 +559,15 @@ impl<'a, const L: usize> DrawSetup<'a, L> {
 
     #[inline(always)]
     fn with(transforms: Option<Transforms<L>>, mesh: Mesh<'a>, flip: bool) -> Self {
-        DrawSetup { transforms, flip, uv: mesh.uv_transform(), arrays: mesh.arrays(), mesh, vertices: None }
+        DrawSetup {
+            transforms,
+            flip,
+            uv: mesh.uv_transform(),
+            arrays: mesh.arrays(),
+            mesh,
+            vertices: None,
+            chunks: None,
+        }
     }
 
     /// The draw's transforms. A setup made without them is never asked: it draws only
@@ -576,7 +586,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     model: &Model<'_>,
     mesh: &Mesh<'_>,
     place: impl Fn() -> Mat4 + Copy,
-    ((mut rows, vertices), unclipped): (Caches<'_>, Option<bool>),
+    ((mut rows, vertices, chunks), unclipped): (Caches<'_>, Option<bool>),
     stats: &mut Stats,
 ) -> Option<bool> {
     stats.triangles_submitted = stats.triangles_submitted.saturating_add(mesh.triangle_count());
@@ -597,7 +607,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
             if unclipped.is_none() && !in_view(ctx, mesh, place) {
                 stats.culled_frustum_mesh = stats.culled_frustum_mesh.saturating_add(mesh.triangle_count());
                 if let Some(rows) = rows {
-                    rows.rows.fill(TriangleRows::EMPTY);
+                    rows.fill(TriangleRows::EMPTY);
                 }
                 return None;
             }
@@ -609,9 +619,10 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
         filled_unclipped = vertex::fill_cache(ctx, &setup, cache, scale);
         setup.vertices = Some(cache);
     }
+    setup.chunks = chunks;
     for sub in mesh.submeshes() {
         let (first, count) = (sub.first_triangle as usize, sub.triangle_count as usize);
-        let seen = rows.as_mut().and_then(|r| r.part(first, count));
+        let seen = rows.as_deref_mut().and_then(|r| r.get_mut(first..first.saturating_add(count)));
         draw_submesh(band, ctx, model, &setup, &sub, seen, stats);
     }
     filled_unclipped.then_some(setup.flip)
@@ -626,7 +637,7 @@ fn draw_submesh<C: FrameColor, D: DepthBuffer, const L: usize>(
     model: &Model<'_>,
     setup: &DrawSetup<'_, L>,
     sub: &SubMesh,
-    seen: Option<DrawRows<'_>>,
+    seen: Option<&mut [TriangleRows]>,
     stats: &mut Stats,
 ) {
     let material = material_of(model, sub);
@@ -638,7 +649,7 @@ fn draw_submesh<C: FrameColor, D: DepthBuffer, const L: usize>(
 }
 
 /// A draw's rows and vertices in the scratch (see [`Scratch::for_draw`]).
-type Caches<'s> = (Option<DrawRows<'s>>, Option<&'s mut [TransformedVertex]>);
+type Caches<'s> = (Option<&'s mut [TriangleRows]>, Option<&'s mut [TransformedVertex]>, Option<DrawChunks<'s>>);
 
 /// The material sub-mesh `sub` draws with (the default one when it has none).
 fn material_of(model: &Model<'_>, sub: &SubMesh) -> Material {

@@ -30,10 +30,8 @@ use crate::pipeline::raster::{first_centre, last_centre, ScreenVertex, MAX_EXTEN
 /// their speed: give each model its own scratch.
 pub struct Scratch<'s> {
     rows: &'s mut [TriangleRows],
-    /// The rows of each chunk of `1 << chunk_shift` neighbouring triangles' rows together (see
-    /// [`RowChunks`]), once `summarised`.
-    chunks: [TriangleRows; ROW_CHUNKS],
-    chunk_shift: u8,
+    /// The rows of each chunk of neighbouring triangles together, once `summarised`.
+    chunks: RowChunks,
     /// Whether `chunks` hold the rows learnt this frame (see [`Scratch::summarise_rows`]).
     summarised: bool,
     vertices: &'s mut [TransformedVertex],
@@ -100,8 +98,7 @@ impl<'s> Scratch<'s> {
         let chunk_shift = (3..usize::BITS - 1).find(|&s| rows.len() >> s < ROW_CHUNKS).unwrap_or(usize::BITS - 1) as u8;
         Scratch {
             rows,
-            chunks: [TriangleRows::UNKNOWN; ROW_CHUNKS],
-            chunk_shift,
+            chunks: RowChunks { summaries: [TriangleRows::UNKNOWN; ROW_CHUNKS], shift: chunk_shift },
             summarised: false,
             vertices,
             sort,
@@ -163,14 +160,12 @@ impl<'s> Scratch<'s> {
         &mut self,
         triangles: Range<usize>,
         vertices: Range<usize>,
-    ) -> (Option<DrawRows<'_>>, Option<&mut [TransformedVertex]>) {
+    ) -> (Option<&mut [TriangleRows]>, Option<&mut [TransformedVertex]>, Option<DrawChunks<'_>>) {
         if !self.owned {
-            return (None, None);
+            return (None, None, None);
         }
-        let chunks = self.summarised.then_some(RowChunks { summaries: &self.chunks, shift: self.chunk_shift.into() });
-        let first = triangles.start;
-        let rows = self.rows.get_mut(triangles).map(|rows| DrawRows { rows, first, chunks });
-        (rows, self.vertices.get_mut(vertices))
+        let chunks = self.summarised.then_some((&self.chunks, triangles.start));
+        (self.rows.get_mut(triangles), self.vertices.get_mut(vertices), chunks)
     }
 
     /// Summarises the rows of the first `triangles` triangles chunk by chunk (see
@@ -182,7 +177,7 @@ impl<'s> Scratch<'s> {
             return;
         }
         let learnt = &self.rows[..triangles.min(self.rows.len())];
-        for (summary, chunk) in self.chunks.iter_mut().zip(learnt.chunks(1 << self.chunk_shift)) {
+        for (summary, chunk) in self.chunks.summaries.iter_mut().zip(learnt.chunks(1 << self.chunks.shift)) {
             *summary = chunk.iter().fold(TriangleRows::EMPTY, |all, r| all.union(*r));
         }
         self.summarised = true;
@@ -215,36 +210,28 @@ impl<'s> Scratch<'s> {
 /// triangles up to 512 triangles, of 16 up to 1,024, and so on (256 bytes).
 pub(crate) const ROW_CHUNKS: usize = 64;
 
-/// One draw's rows in the scratch (see [`Scratch::for_draw`]): a triangle's rows and, when
-/// summarised, the chunk summaries they lie in.
-pub(crate) struct DrawRows<'s> {
-    pub(crate) rows: &'s mut [TriangleRows],
-    /// Where `rows` start among the scratch's: the index that says a triangle's chunk.
-    pub(crate) first: usize,
-    pub(crate) chunks: Option<RowChunks<'s>>,
-}
-
-impl DrawRows<'_> {
-    /// Its rows `first..first + count`, when it has them.
-    #[inline]
-    pub(crate) fn part(&mut self, first: usize, count: usize) -> Option<DrawRows<'_>> {
-        let rows = self.rows.get_mut(first..first.checked_add(count)?)?;
-        Some(DrawRows { rows, first: self.first + first, chunks: self.chunks })
-    }
-}
+/// A draw's [`RowChunks`] (once summarised), and where its triangles' rows start among the
+/// scratch's (the index that says a triangle's chunk).
+pub(crate) type DrawChunks<'s> = (&'s RowChunks, usize);
 
 /// The rows that each chunk of `1 << shift` neighbouring triangles together may touch (the
 /// union of theirs): a band tests a chunk whole and skips it when it cannot touch it. A mesh's
 /// neighbouring triangles tend to be near each other (exporters keep faces in modelling order):
 /// in the reference frame's eighth bands, 3,014 triangle tests and 366 chunk tests instead of
 /// 6,762 triangle tests.
-#[derive(Clone, Copy)]
-pub(crate) struct RowChunks<'s> {
-    summaries: &'s [TriangleRows; ROW_CHUNKS],
-    pub(crate) shift: u32,
+pub(crate) struct RowChunks {
+    summaries: [TriangleRows; ROW_CHUNKS],
+    shift: u8,
 }
 
-impl RowChunks<'_> {
+impl RowChunks {
+    /// How many triangles from `at` on (an index into the scratch's rows) are in its chunk.
+    #[inline(always)]
+    pub(crate) fn left_in_chunk(&self, at: usize) -> usize {
+        let size = 1 << self.shift;
+        size - (at & (size - 1))
+    }
+
     /// Whether the chunk of triangle `at` (an index into the scratch's rows) may touch rows
     /// `row_start..row_end`.
     #[inline(always)]
@@ -442,21 +429,19 @@ mod tests {
         scratch.claim(Owner(1));
         // What a first band learns.
         let draw = scratch.for_draw(0..20, 0..0).0.unwrap();
-        draw.rows.fill(TriangleRows::EMPTY);
+        draw.fill(TriangleRows::EMPTY);
         for (t, r) in [(2, rows(10, 12)), (5, rows(40, 41)), (9, rows(100, 120)), (19, rows(0, 3))] {
-            draw.rows[t] = r;
+            draw[t] = r;
         }
         // Not until a band that is not the whole frame has drawn.
         scratch.summarise_rows(20, true);
-        assert!(scratch.for_draw(0..20, 0..0).0.is_some_and(|r| r.chunks.is_none()));
+        assert!(scratch.for_draw(0..20, 0..0).2.is_none());
         scratch.summarise_rows(20, false);
-        assert_eq!(scratch.chunk_shift, 3);
-        assert_eq!(scratch.chunks[..3], [rows(10, 41), rows(100, 120), rows(0, 3)]);
-        assert_eq!(scratch.chunks[3], TriangleRows::UNKNOWN);
-        let mut draw = scratch.for_draw(4..20, 0..0).0.unwrap();
-        let part = draw.part(4, 12).unwrap();
-        assert_eq!((part.first, part.rows.len()), (8, 12));
-        let chunks = part.chunks.unwrap();
+        assert_eq!(scratch.chunks.shift, 3);
+        assert_eq!(scratch.chunks.summaries[..3], [rows(10, 41), rows(100, 120), rows(0, 3)]);
+        assert_eq!(scratch.chunks.summaries[3], TriangleRows::UNKNOWN);
+        let (chunks, at) = scratch.for_draw(4..20, 0..0).2.unwrap();
+        assert_eq!(at, 4);
         // Triangle 8's chunk (8..16) touches rows 100..=120 only.
         assert!(!chunks.may_touch(8, 0, 100) && chunks.may_touch(8, 120, 121) && !chunks.may_touch(8, 121, 200));
         assert!(chunks.may_touch(19, 3, 4) && !chunks.may_touch(19, 4, 200));
@@ -472,9 +457,9 @@ mod tests {
         scratch.claim(Owner(1));
         scratch.summarise_rows(8, false);
         scratch.claim(Owner(2));
-        assert!(scratch.for_draw(0..8, 0..0).0.is_none());
+        assert!(scratch.for_draw(0..8, 0..0).0.is_none() && scratch.for_draw(0..8, 0..0).2.is_none());
         scratch.new_frame();
         scratch.claim(Owner(2));
-        assert!(scratch.for_draw(0..8, 0..0).0.is_some_and(|r| r.chunks.is_none()));
+        assert!(scratch.for_draw(0..8, 0..0).0.is_some() && scratch.for_draw(0..8, 0..0).2.is_none());
     }
 }

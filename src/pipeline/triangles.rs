@@ -6,7 +6,7 @@
 use core::ops::Range;
 
 use super::primitive::{common_cache, draw_triangle, Learnt, Surface};
-use super::scratch::DrawRows;
+use super::scratch::DrawChunks;
 use super::{fragment, Context, DrawSetup, Shading, Stats, TransformedVertex, TriangleRows};
 use crate::format::U16Triangles;
 use crate::target::{Band, DepthBuffer, FrameColor};
@@ -18,25 +18,27 @@ pub(super) fn draw_range<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     s: &DrawSetup<'_, L>,
-    (range, seen): (Range<u32>, Option<DrawRows<'_>>),
+    (range, seen): (Range<u32>, Option<&mut [TriangleRows]>),
     (surface, variant): (&Surface<'_, '_>, Option<fragment::Variant<C, D, L>>),
     stats: &mut Stats,
 ) {
     match seen {
         // The first band to draw them: every triangle is tested and drawn, learning its rows.
-        Some(seen) if seen.rows.first() == Some(&TriangleRows::UNKNOWN) => {
-            draw_first_band(band, ctx, s, (seen.rows, range.start), (surface, variant), stats);
+        Some(seen) if seen.first() == Some(&TriangleRows::UNKNOWN) => {
+            draw_first_band(band, ctx, s, (seen, range.start), (surface, variant), stats);
         }
         Some(seen) => {
             let band_rows = (ctx.window.row_start, ctx.window.row_end);
             let touched = match Later::new(band, ctx, s, (surface, variant)) {
                 Some(mut later) => {
-                    draw_touching(seen, range.start, band_rows, stats, &mut |t, r, stats| later.draw(t, r, stats))
+                    draw_touching((seen, &s.chunks), range.start, band_rows, stats, &mut |t, r, stats| {
+                        later.draw(t, r, stats)
+                    })
                 }
                 None => {
                     let mut draw =
                         |t, r, stats: &mut Stats| draw_one(band, ctx, s, (t, learnt(r)), (surface, variant), stats);
-                    draw_touching(seen, range.start, band_rows, stats, &mut draw)
+                    draw_touching((seen, &s.chunks), range.start, band_rows, stats, &mut draw)
                 }
             };
             stats.outside_band += range.len() as u32 - touched;
@@ -55,20 +57,21 @@ pub(super) fn draw_range<C: FrameColor, D: DepthBuffer, const L: usize>(
 /// is skipped whole.
 #[inline(never)]
 fn draw_touching(
-    seen: DrawRows<'_>,
+    (seen, chunks): (&mut [TriangleRows], &Option<DrawChunks<'_>>),
     first: u32,
     band_rows: (i32, i32),
     stats: &mut Stats,
     draw: &mut impl FnMut(u32, TriangleRows, &mut Stats) -> TriangleRows,
 ) -> u32 {
-    let Some(chunks) = seen.chunks else {
-        return draw_touching_each(seen.rows, first, band_rows, stats, draw);
+    let Some((chunks, draw_at)) = *chunks else {
+        return draw_touching_each(seen, first, band_rows, stats, draw);
     };
-    let (mut rows, mut t, mut at) = (seen.rows, first, seen.first);
+    // `seen[0]`'s index among the scratch's rows, which says its chunk.
+    let (mut rows, mut t, mut at) = (seen, first, draw_at.wrapping_add(first as usize));
     let mut touched = 0;
     while !rows.is_empty() {
         // To the end of `at`'s chunk, or of the rows.
-        let len = ((1 << chunks.shift) - (at & ((1 << chunks.shift) - 1))).min(rows.len());
+        let len = chunks.left_in_chunk(at).min(rows.len());
         let (chunk, rest) = rows.split_at_mut(len);
         if chunks.may_touch(at, band_rows.0, band_rows.1) {
             touched += draw_touching_each(chunk, t, band_rows, stats, draw);
