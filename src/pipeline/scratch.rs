@@ -86,29 +86,21 @@ impl Scratch<'static> {
     /// No scratch memory: every band does all the work, and back-to-front order is refused.
     #[must_use]
     pub fn none() -> Self {
-        Scratch::of(&mut [], &mut [], &mut [])
-    }
-}
-
-impl<'s> Scratch<'s> {
-    /// A scratch of these rows, vertices and sort entries, for a new frame (rows and vertices
-    /// not reset).
-    fn of(rows: &'s mut [TriangleRows], vertices: &'s mut [TransformedVertex], sort: &'s mut [SortEntry]) -> Self {
-        // The smallest chunks that `ROW_CHUNKS` of cover all the rows, of at least 8 triangles.
-        let chunk_shift = (3..usize::BITS - 1).find(|&s| rows.len() >> s < ROW_CHUNKS).unwrap_or(usize::BITS - 1) as u8;
         Scratch {
-            rows,
-            chunks: RowChunks { summaries: [TriangleRows::UNKNOWN; ROW_CHUNKS], shift: chunk_shift },
+            rows: &mut [],
+            chunks: RowChunks::for_rows(0),
             summarised: false,
-            vertices,
-            sort,
+            vertices: &mut [],
+            sort: &mut [],
             owner: None,
             owned: false,
             unclipped: 0,
             flipped: 0,
         }
     }
+}
 
+impl<'s> Scratch<'s> {
     /// Adds a row record of `rows` (reset), one entry a triangle.
     #[must_use]
     pub fn with_rows<'t>(self, rows: &'t mut [TriangleRows]) -> Scratch<'t>
@@ -116,7 +108,8 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         rows.fill(TriangleRows::UNKNOWN);
-        Scratch::of(rows, self.vertices, self.sort)
+        let chunks = RowChunks::for_rows(rows.len());
+        Scratch { rows, chunks, summarised: false, owner: None, owned: false, unclipped: 0, flipped: 0, ..self }
     }
 
     /// Adds a vertex cache of `vertices` (reset), one entry a vertex.
@@ -126,7 +119,7 @@ impl<'s> Scratch<'s> {
         's: 't,
     {
         vertices.fill(TransformedVertex::UNKNOWN);
-        Scratch::of(self.rows, vertices, self.sort)
+        Scratch { vertices, summarised: false, owner: None, owned: false, unclipped: 0, flipped: 0, ..self }
     }
 
     /// Adds the sort list of [`DrawOrder::BackToFront`](super::DrawOrder::BackToFront), one
@@ -225,6 +218,13 @@ pub(crate) struct RowChunks {
 }
 
 impl RowChunks {
+    /// No summaries yet, for `rows` triangles: the smallest chunks that `ROW_CHUNKS` of cover
+    /// them all, of at least 8 triangles.
+    fn for_rows(rows: usize) -> Self {
+        let shift = (3..usize::BITS - 1).find(|&s| rows >> s < ROW_CHUNKS).unwrap_or(usize::BITS - 1);
+        RowChunks { summaries: [TriangleRows::UNKNOWN; ROW_CHUNKS], shift: shift as u8 }
+    }
+
     /// How many triangles from `at` on (an index into the scratch's rows) are in its chunk.
     #[inline(always)]
     pub(crate) fn left_in_chunk(&self, at: usize) -> usize {
