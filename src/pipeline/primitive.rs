@@ -71,16 +71,16 @@ impl<'a, 'm> Surface<'a, 'm> {
 pub(crate) fn draw_triangle<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    (s, common): (&DrawSetup<'c, L>, Option<&'c [TransformedVertex]>),
+    (s, common): (&DrawSetup<'c, L>, Option<Common<'c>>),
     (t, idx, learnt): (u32, [u32; 3], Option<Learnt>),
     (surface, variant): (&Surface<'_, '_>, Option<Variant<C, D, L>>),
     stats: &mut Stats,
 ) -> TriangleRows {
-    match front_end(ctx, common, (idx, learnt), surface, stats) {
+    match front_end(ctx, common.map(|c| c.cache), (idx, learnt), surface, stats) {
         Front::Done(rows) => rows,
         // The common case, straight to the fill from the vertex cache.
         Front::Cached(p, area, rows) => {
-            if ctx.opts.shading == Shading::Flat {
+            if common.is_some_and(|c| c.flat) {
                 fill_flat_cached(band, ctx, (s, t), (&p, area), (surface, variant), stats);
             } else {
                 fill_cached(band, ctx, Corners::Cached(&p, None), area, (surface, variant), stats);
@@ -170,14 +170,23 @@ fn front_end<'c, const L: usize>(
     }
 }
 
-/// The vertex cache that the common case of [`front_end`] reads: the draw's, when the mode is
+/// What the common case of [`front_end`] reads: the draw's vertex cache, and whether its
+/// triangles are flat shaded (lit by their faces, not their corners). A triangle loop that
+/// knows the shading says it here, once, not the triangle's draw.
+#[derive(Clone, Copy)]
+pub(crate) struct Common<'c> {
+    /// The draw's vertex cache.
+    pub(crate) cache: &'c [TransformedVertex],
+    /// Whether the draw is flat shaded.
+    pub(crate) flat: bool,
+}
+
+/// The common case of draw `s` (see [`Common`]): when it has a vertex cache and the mode is
 /// [`Mode::Solid`] (else every triangle is [`Front::Other`]).
 #[inline(always)]
-pub(crate) fn common_cache<'c, const L: usize>(
-    ctx: &Context<'_, L>,
-    s: &DrawSetup<'c, L>,
-) -> Option<&'c [TransformedVertex]> {
-    s.vertices.filter(|_| ctx.opts.mode == Mode::Solid)
+pub(crate) fn common_cache<'c, const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'c, L>) -> Option<Common<'c>> {
+    let flat = ctx.opts.shading == Shading::Flat;
+    s.vertices.filter(|_| ctx.opts.mode == Mode::Solid).map(|cache| Common { cache, flat })
 }
 
 /// The corners `idx` from a draw's vertex cache `cache`, when it has them all and none needs
