@@ -26,6 +26,7 @@ mod line;
 mod primitive;
 pub(crate) mod raster;
 mod scratch;
+mod setup;
 mod sort;
 mod span;
 mod stats;
@@ -36,15 +37,16 @@ mod vertex;
 
 use scratch::DrawChunks;
 pub use scratch::{Scratch, SortEntry, TransformedVertex, TriangleRows};
+pub(crate) use setup::{ClipTransform, DrawSetup, Transforms};
 pub use stats::Stats;
 
 pub use clip::{clip_triangle, ClipResult, ClipVertex, GuardBand, Polygon};
 pub use varyings::{MAX_VARYINGS, VARYING_FRAC};
 
 use crate::camera::Camera;
-use crate::format::{Arrays, Material, Mesh, Model, SubMesh};
-use crate::light::{FixedLights, Lights, PixelLights, PreparedLights};
-use crate::math::{normal_matrix, FixedTransform, Mat3, Mat4, Vec3};
+use crate::format::{Material, Mesh, Model, SubMesh};
+use crate::light::{Lights, PixelLights, PreparedLights};
+use crate::math::{Mat4, Vec3};
 use crate::target::{Band, DepthBuffer, FrameColor, GUARD_HALF_EXTENT};
 use crate::texture::{Filter, Sampler};
 use primitive::Surface;
@@ -392,142 +394,28 @@ fn is_grey(c: Vec3) -> bool {
     c.x == c.y && c.x == c.z
 }
 
-/// Per-draw constants.
-pub(crate) struct DrawSetup<'a, const L: usize> {
-    /// The draw's transforms; `None` in a band that fills every triangle from the vertex cache,
-    /// which needs none (see `draw_mesh_with`).
-    transforms: Option<Transforms<L>>,
-    pub(crate) flip: bool,
-    pub(crate) uv: ([f32; 2], [f32; 2]),
-    pub(crate) mesh: Mesh<'a>,
-    pub(crate) arrays: Arrays<'a>,
-    /// The draw's filled vertex cache, when it has one (see `vertex::fill_cache`).
-    pub(crate) vertices: Option<&'a [TransformedVertex]>,
-    /// The summaries of its rows in the scratch, when made (see `triangles::draw_touching`).
-    pub(crate) chunks: Option<DrawChunks<'a>>,
-}
-
-/// What a draw transforms and lights vertices with: matrices, and their integer forms.
-pub(crate) struct Transforms<const L: usize> {
-    pub(crate) clip: ClipTransform,
-    pub(crate) model_q: Mat4,
-    pub(crate) normals: Mat3,
-    /// `normals` is a rotation (to 1e-6): stored unit normals stay unit, no normalising.
-    pub(crate) rotation: bool,
-    /// Gouraud vertex light in integers, whenever the lights allow it (see
-    /// [`PreparedLights::fixed`]) and the normal matrix is a rotation; on every target, as it
-    /// costs fewer instructions than f32 even with an FPU.
-    pub(crate) fixed_lights: Option<FixedLights<L>>,
-}
-
-/// How a draw's vertices reach clip space: one of two, never both (stack: the draw's frame lives
-/// on under the rasterizer).
-pub(crate) enum ClipTransform {
-    /// The model-view-projection matrix, in f32.
-    Float(Mat4),
-    /// The integer transform and the bounding sphere it maps float positions into, with
-    /// [`RenderOptions::fixed_vertices`].
-    Fixed(FixedTransform, (Vec3, f32)),
-}
-
-impl<const L: usize> Transforms<L> {
-    /// What [`DrawSetup::transforms`] gives a draw that has none (it never asks: see there).
-    const NONE: Self = Transforms {
-        clip: ClipTransform::Float(Mat4::IDENTITY),
-        model_q: Mat4::IDENTITY,
-        normals: Mat3::IDENTITY,
-        rotation: true,
-        fixed_lights: None,
-    };
-
-    /// The transforms of `mesh` placed by `world`.
-    fn new(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4) -> Self {
-        let model_q = *world * mesh.dequantize();
-        let normals = normal_matrix(world);
-        let (mvp, sphere) = (ctx.frame.vp * model_q, mesh.bounding_sphere());
-        let fixed = ctx.opts.fixed_vertices.then_some(()).and_then(|()| {
-            let (offset, step) = mesh.arrays().int_position_frame(sphere);
-            FixedTransform::new(&mvp, offset, step)
-        });
-        let clip = match fixed {
-            Some(fixed) => ClipTransform::Fixed(fixed, sphere),
-            None => ClipTransform::Float(mvp),
-        };
-        let rotation = crate::math::is_rotation(&normals);
-        let integer_light = rotation && !ctx.frame.lit_by_position;
-        Transforms {
-            clip,
-            fixed_lights: integer_light.then(|| ctx.frame.vertex_lights.fixed(&normals)).flatten(),
-            model_q,
-            normals,
-            rotation,
-        }
-    }
-}
-
-impl<'a, const L: usize> DrawSetup<'a, L> {
-    /// The draw of `mesh` placed by `place()` (`transform · world`). Not inlined, and the
-    /// matrix made here: it and its temporaries stay out of the caller's frame, which lives on
-    /// under the rasterizer.
-    #[inline(never)]
-    pub(crate) fn new(ctx: &Context<'_, L>, mesh: Mesh<'a>, place: impl FnOnce() -> Mat4) -> Self {
-        let world = place();
-        let flip = Mat3::from_mat4(world).determinant() < 0.0;
-        Self::with(Some(Transforms::new(ctx, &mesh, &world)), mesh, flip)
-    }
-
-    /// [`DrawSetup::new`] without the transforms, for a band that fills every triangle from the
-    /// vertex cache and so needs none (see `draw_mesh_with`); `flip`: whether the draw's
-    /// transform mirrors, as `new` found it.
-    #[inline(always)]
-    pub(crate) fn without_transforms(mesh: Mesh<'a>, flip: bool) -> Self {
-        Self::with(None, mesh, flip)
-    }
-
-    #[inline(always)]
-    fn with(transforms: Option<Transforms<L>>, mesh: Mesh<'a>, flip: bool) -> Self {
-        DrawSetup {
-            transforms,
-            flip,
-            uv: mesh.uv_transform(),
-            arrays: mesh.arrays(),
-            mesh,
-            vertices: None,
-            chunks: None,
-        }
-    }
-
-    /// The draw's transforms. A setup made without them is never asked: it draws only
-    /// triangles whose corners are all in the vertex cache and none needs clipping (and if it
-    /// were, the identity is no panic).
-    #[inline]
-    pub(crate) fn transforms(&self) -> &Transforms<L> {
-        debug_assert!(self.transforms.is_some(), "transforms asked of a draw made without them");
-        self.transforms.as_ref().unwrap_or(&Transforms::NONE)
-    }
-}
-
 pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     model: &Model<'_>,
     mesh: &Mesh<'_>,
     place: impl Fn() -> Mat4 + Copy,
-    ((mut rows, vertices, chunks), unclipped): (Caches<'_>, Option<bool>),
+    ((mut rows, mut vertices, chunks), unclipped): (Caches<'_>, Option<bool>),
     stats: &mut Stats,
 ) -> Option<bool> {
     stats.triangles_submitted = stats.triangles_submitted.saturating_add(mesh.triangle_count());
     // The cache holds one set of texel coordinates, and nothing Phong needs.
     let scale = uniform_texel_scale(ctx, model, mesh).filter(|_| ctx.opts.shading != Shading::Phong);
-    // A band after the first whose draw has all its vertices `unclipped` in the cache fills
-    // every triangle from it: it needs neither the draw's matrix nor its transforms (matrix
-    // products: soft-float without an FPU), but for flat shading's face light; whether the
-    // transform mirrors, the first band found. Any other works them out here, at the top of
-    // the draw (not under a triangle, where the stack is deeper).
+    // Every triangle fills from a vertex cache that holds all the draw's vertices, none needing
+    // clipping, in these modes: with neither the draw's matrix nor its transforms (matrix
+    // products: soft-float without an FPU), but for flat shading's face light.
+    let from_cache = ctx.opts.mode == Mode::Solid && ctx.opts.shading != Shading::Flat;
+    // A band after the first whose draw found its vertices `unclipped` (and whether its
+    // transform mirrors): nothing to work out. Any other works them out, at the top of the draw
+    // (not under a triangle, where the stack is deeper).
     let filled = vertices.as_deref().is_some_and(vertex::is_filled) && scale.is_some();
-    let reuse = unclipped.filter(|_| filled && ctx.opts.mode == Mode::Solid && ctx.opts.shading != Shading::Flat);
-    let mut setup = match reuse {
-        Some(flip) => DrawSetup::without_transforms(*mesh, flip),
+    let (flip, filled_now) = match unclipped.filter(|_| filled && from_cache) {
+        Some(flip) => (flip, false),
         None => {
             // `unclipped`: an earlier band of this frame found the mesh in view (the same
             // test, for the same camera and transform).
@@ -538,21 +426,76 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
                 }
                 return None;
             }
-            DrawSetup::new(ctx, *mesh, place)
+            let caches = (rows.as_deref_mut(), vertices.as_deref_mut().zip(scale), chunks);
+            match transform_and_draw(band, ctx, model, (mesh, place), caches, from_cache, stats) {
+                Transformed::Drawn(filled_unclipped) => return filled_unclipped,
+                Transformed::Filled(flip) => (flip, true),
+            }
         }
     };
+    let mut setup = DrawSetup::without_transforms(*mesh, flip);
+    setup.vertices = vertices.map(|v| &*v);
+    setup.chunks = chunks;
+    draw_submeshes(band, ctx, model, &setup, rows, stats);
+    filled_now.then_some(flip)
+}
+
+/// What [`transform_and_draw`] did.
+enum Transformed {
+    /// It drew the mesh; whether it filled the vertex cache with no vertex needing clipping, and
+    /// then whether the transform mirrors.
+    Drawn(Option<bool>),
+    /// It filled the vertex cache with no vertex needing clipping, in a mode whose triangles
+    /// all fill from it: the caller draws them, without the transforms; whether the transform
+    /// mirrors.
+    Filled(bool),
+}
+
+/// The transforms of `mesh` placed by `place()`, the vertex cache filled with them, and the
+/// draw, unless every triangle fills from that cache (`from_cache` and none needs clipping):
+/// then the caller draws it. Not inlined: the transforms live in this frame, which the
+/// common draw from the cache does not have under its rasterizer (the deepest stack).
+#[inline(never)]
+fn transform_and_draw<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    model: &Model<'_>,
+    (mesh, place): (&Mesh<'_>, impl FnOnce() -> Mat4),
+    (rows, cache, chunks): TransformCaches<'_>,
+    from_cache: bool,
+    stats: &mut Stats,
+) -> Transformed {
+    let (transforms, flip) = Transforms::placed(ctx, mesh, place);
+    let mut setup = DrawSetup::new(*mesh, &transforms, flip);
     let mut filled_unclipped = false;
-    if let (Some(cache), Some(scale)) = (vertices, scale) {
-        filled_unclipped = vertex::fill_cache(ctx, &setup, cache, scale);
+    if let Some((cache, scale)) = cache {
+        filled_unclipped = vertex::fill_cache(ctx, (&setup, &transforms), cache, scale);
+        if filled_unclipped && from_cache {
+            return Transformed::Filled(flip);
+        }
         setup.vertices = Some(cache);
     }
     setup.chunks = chunks;
-    for sub in mesh.submeshes() {
+    draw_submeshes(band, ctx, model, &setup, rows, stats);
+    Transformed::Drawn(filled_unclipped.then_some(flip))
+}
+
+/// Draws every sub-mesh of draw `setup`, with `rows` its triangles' rows in the scratch when
+/// it has them.
+#[inline(always)]
+fn draw_submeshes<C: FrameColor, D: DepthBuffer, const L: usize>(
+    band: &mut Band<'_, C, D>,
+    ctx: &Context<'_, L>,
+    model: &Model<'_>,
+    setup: &DrawSetup<'_, L>,
+    mut rows: Option<&mut [TriangleRows]>,
+    stats: &mut Stats,
+) {
+    for sub in setup.mesh.submeshes() {
         let (first, count) = (sub.first_triangle as usize, sub.triangle_count as usize);
         let seen = rows.as_deref_mut().and_then(|r| r.get_mut(first..first.saturating_add(count)));
-        draw_submesh(band, ctx, model, &setup, &sub, seen, stats);
+        draw_submesh(band, ctx, model, setup, &sub, seen, stats);
     }
-    filled_unclipped.then_some(setup.flip)
 }
 
 /// Draws sub-mesh `sub` of draw `setup`, with `seen` its triangles' rows in the scratch when it
@@ -577,6 +520,10 @@ fn draw_submesh<C: FrameColor, D: DepthBuffer, const L: usize>(
 
 /// A draw's rows and vertices in the scratch (see [`Scratch::for_draw`]).
 type Caches<'s> = (Option<&'s mut [TriangleRows]>, Option<&'s mut [TransformedVertex]>, Option<DrawChunks<'s>>);
+
+/// [`Caches`] as [`transform_and_draw`] takes them: the vertices with their texel scale.
+type TransformCaches<'s> =
+    (Option<&'s mut [TriangleRows]>, Option<(&'s mut [TransformedVertex], (f32, f32))>, Option<DrawChunks<'s>>);
 
 /// The material sub-mesh `sub` draws with (the default one when it has none).
 fn material_of(model: &Model<'_>, sub: &SubMesh) -> Material {

@@ -3,7 +3,7 @@
 //! for drawing or rasterize (`primitive` and `raster` do, as for every order).
 
 use super::primitive::{common_cache, draw_triangle, Surface};
-use super::{Context, DrawError, DrawSetup, Scratch, SortEntry, Stats};
+use super::{Context, DrawError, DrawSetup, Scratch, SortEntry, Stats, Transforms};
 use crate::format::Model;
 use crate::math::Mat4;
 use crate::target::{Band, DepthBuffer, FrameColor};
@@ -39,31 +39,30 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
     let list = &mut scratch[..n];
     list.sort_unstable_by_key(|e| core::cmp::Reverse(e.key));
     let mut stats = Stats::default();
-    let mut current: Option<(u16, DrawSetup<'_, L>)> = None;
-    for e in list.iter() {
-        if current.as_ref().is_none_or(|(d, _)| *d != e.draw) {
-            current = model
-                .placed_draw(e.draw as usize)
-                .map(|(mesh, world)| (e.draw, DrawSetup::new(ctx, mesh, || transform * model.world(world))));
+    // One draw's run of triangles at a time, with that draw's transforms.
+    for run in list.chunk_by(|a, b| a.draw == b.draw) {
+        let Some((mesh, world)) = run.first().and_then(|e| model.placed_draw(e.draw as usize)) else { continue };
+        let (transforms, flip) = Transforms::placed(ctx, &mesh, || transform * model.world(world));
+        let setup = &DrawSetup::new(mesh, &transforms, flip);
+        for e in run {
+            stats.triangles_submitted = stats.triangles_submitted.saturating_add(1);
+            let sub = setup
+                .mesh
+                .submeshes()
+                .find(|s| (s.first_triangle..s.first_triangle + s.triangle_count).contains(&e.triangle));
+            let material = sub.and_then(|s| s.material).and_then(|m| model.material(m)).unwrap_or_default();
+            let sampler = ctx.sampler(model, &setup.mesh, &material);
+            let surface = Surface::new(&material, sampler.as_ref(), ctx, setup);
+            let common = common_cache(ctx, setup);
+            let _ = draw_triangle(
+                band,
+                ctx,
+                (setup, common),
+                (e.triangle, setup.arrays.triangle(e.triangle), None),
+                (&surface, None),
+                &mut stats,
+            );
         }
-        let Some((_, setup)) = &current else { continue };
-        stats.triangles_submitted = stats.triangles_submitted.saturating_add(1);
-        let sub = setup
-            .mesh
-            .submeshes()
-            .find(|s| (s.first_triangle..s.first_triangle + s.triangle_count).contains(&e.triangle));
-        let material = sub.and_then(|s| s.material).and_then(|m| model.material(m)).unwrap_or_default();
-        let sampler = ctx.sampler(model, &setup.mesh, &material);
-        let surface = Surface::new(&material, sampler.as_ref(), ctx, setup);
-        let common = common_cache(ctx, setup);
-        let _ = draw_triangle(
-            band,
-            ctx,
-            (setup, common),
-            (e.triangle, setup.arrays.triangle(e.triangle), None),
-            (&surface, None),
-            &mut stats,
-        );
     }
     Ok(stats)
 }
