@@ -58,9 +58,14 @@ impl<'a> Mesh<'a> {
     /// The matrix that turns a stored position ([`Mesh::position_stored`]) into a local one.
     #[must_use]
     pub fn dequantize(&self) -> Mat4 {
-        let offset = vec3_at(self.data, self.at + mesh::POS_OFFSET.start);
-        let scale = vec3_at(self.data, self.at + mesh::POS_SCALE.start);
+        let (scale, offset) = self.dequantization();
         Mat4::from_scale_rotation_translation(scale, glam::Quat::IDENTITY, offset)
+    }
+
+    /// [`Mesh::dequantize`]'s scale and offset.
+    #[must_use]
+    pub fn dequantization(&self) -> (Vec3, Vec3) {
+        (vec3_at(self.data, self.at + mesh::POS_SCALE.start), vec3_at(self.data, self.at + mesh::POS_OFFSET.start))
     }
 
     /// `(offset, scale)` turning a quantized UV into a UV: `offset + q * scale`.

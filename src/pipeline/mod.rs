@@ -47,7 +47,7 @@ use crate::camera::Camera;
 use crate::format::{Material, Mesh, Model, SubMesh};
 use crate::light::{Lights, PixelLights, PreparedLights};
 use crate::math::{Mat4, Vec3};
-use crate::target::{Band, DepthBuffer, FrameColor, GUARD_HALF_EXTENT};
+use crate::target::{Band, DepthBuffer, FrameColor};
 use crate::texture::{Filter, Sampler};
 use primitive::Surface;
 use raster::Window;
@@ -353,10 +353,9 @@ pub(crate) struct Context<'l, const L: usize> {
     /// The frame's options (a copy: read in every triangle, and constants to the compiler
     /// when the caller's are).
     pub(crate) opts: RenderOptions,
-    pub(crate) guard: GuardBand,
     pub(crate) window: Window,
-    pub(crate) half: (f32, f32),
-    /// `half` times 16 (in 1/16 pixels): eight times the frame's width and height.
+    /// Half the frame's width and height times 16 (in 1/16 pixels): eight times its width and
+    /// height (the integer projection's; the f32 one's are in [`Projection`](setup::Projection)).
     pub(crate) half_16: [i32; 2],
     /// The frame's height in pixels.
     pub(crate) height: u16,
@@ -364,17 +363,14 @@ pub(crate) struct Context<'l, const L: usize> {
 
 impl<'l, const L: usize> Context<'l, L> {
     pub(crate) fn new<C, D>(band: &Band<'_, C, D>, frame: &'l FrameConstants<'l, L>) -> Self {
-        let (w, h) = (band.width as f32, band.height as f32);
         Context {
             frame,
             opts: frame.opts,
-            guard: GuardBand { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
             window: Window {
                 width: band.width as i32,
                 row_start: band.first_row as i32,
                 row_end: band.first_row as i32 + band.rows as i32,
             },
-            half: (w * 0.5, h * 0.5),
             half_16: [8 * i32::from(band.width), 8 * i32::from(band.height)],
             height: band.height,
         }
@@ -404,32 +400,32 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
     stats: &mut Stats,
 ) -> Option<bool> {
     stats.triangles_submitted = stats.triangles_submitted.saturating_add(mesh.triangle_count());
-    // The cache holds one set of texel coordinates, and nothing Phong needs.
-    let scale = uniform_texel_scale(ctx, model, mesh).filter(|_| ctx.opts.shading != Shading::Phong);
     // Every triangle fills from a vertex cache that holds all the draw's vertices, none needing
     // clipping, in these modes: with neither the draw's matrix nor its transforms (matrix
     // products: soft-float without an FPU), but for flat shading's face light.
     let from_cache = ctx.opts.mode == Mode::Solid && ctx.opts.shading != Shading::Flat;
     // A band after the first whose draw found its vertices `unclipped` (and whether its
-    // transform mirrors): nothing to work out. Any other works them out, at the top of the draw
-    // (not under a triangle, where the stack is deeper).
-    let filled = vertices.as_deref().is_some_and(vertex::is_filled) && scale.is_some();
+    // transform mirrors), when they are in the cache (filled this frame, for this model,
+    // options and transform: the scratch's owner): nothing to work out. Any other works them
+    // out, at the top of the draw (not under a triangle, where the stack is deeper).
+    let filled = vertices.as_deref().is_some_and(vertex::is_filled);
     let (flip, filled_now) = match unclipped.filter(|_| filled && from_cache) {
         Some(flip) => (flip, false),
         None => {
             // `unclipped`: an earlier band of this frame found the mesh in view (the same
             // test, for the same camera and transform).
-            if unclipped.is_none() && !in_view(ctx, mesh, place) {
-                stats.culled_frustum_mesh = stats.culled_frustum_mesh.saturating_add(mesh.triangle_count());
-                if let Some(rows) = rows {
-                    rows.fill(TriangleRows::EMPTY);
-                }
-                return None;
-            }
-            let caches = (rows.as_deref_mut(), vertices.as_deref_mut().zip(scale), chunks);
-            match transform_and_draw(band, ctx, model, (mesh, place), caches, from_cache, stats) {
+            let caches = (rows.as_deref_mut(), vertices.as_deref_mut(), chunks);
+            let view = (place, unclipped.is_none());
+            match transform_and_draw(band, ctx, model, (mesh, view), caches, from_cache, stats) {
                 Transformed::Drawn(filled_unclipped) => return filled_unclipped,
                 Transformed::Filled(flip) => (flip, true),
+                Transformed::OutOfView => {
+                    stats.culled_frustum_mesh = stats.culled_frustum_mesh.saturating_add(mesh.triangle_count());
+                    if let Some(rows) = rows {
+                        rows.fill(TriangleRows::EMPTY);
+                    }
+                    return None;
+                }
             }
         }
     };
@@ -442,6 +438,8 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
 
 /// What [`transform_and_draw`] did.
 enum Transformed {
+    /// Nothing: the mesh is out of view (see [`Transforms::placed`]).
+    OutOfView,
     /// It drew the mesh; whether it filled the vertex cache with no vertex needing clipping, and
     /// then whether the transform mirrors.
     Drawn(Option<bool>),
@@ -451,24 +449,29 @@ enum Transformed {
     Filled(bool),
 }
 
-/// The transforms of `mesh` placed by `place()`, the vertex cache filled with them, and the
-/// draw, unless every triangle fills from that cache (`from_cache` and none needs clipping):
-/// then the caller draws it. Not inlined: the transforms live in this frame, which the
-/// common draw from the cache does not have under its rasterizer (the deepest stack).
+/// The transforms of `mesh` placed by `place()`, unless it is out of view (tested with
+/// `test_view`), the vertex cache filled with them, and the draw, unless every triangle fills
+/// from that cache (`from_cache` and none needs clipping): then the caller draws it. Not
+/// inlined: the transforms live in this frame, which the common draw from the cache does not
+/// have under its rasterizer (the deepest stack).
 #[inline(never)]
 fn transform_and_draw<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
     model: &Model<'_>,
-    (mesh, place): (&Mesh<'_>, impl FnOnce() -> Mat4),
-    (rows, cache, chunks): TransformCaches<'_>,
+    (mesh, (place, test_view)): (&Mesh<'_>, (impl FnOnce() -> Mat4, bool)),
+    (rows, cache, chunks): Caches<'_>,
     from_cache: bool,
     stats: &mut Stats,
 ) -> Transformed {
-    let (transforms, flip) = Transforms::placed(ctx, mesh, place);
+    let Some((transforms, flip)) = Transforms::placed(ctx, mesh, place, test_view) else {
+        return Transformed::OutOfView;
+    };
+    // The cache holds one set of texel coordinates, and nothing Phong needs.
+    let scale = uniform_texel_scale(ctx, model, mesh).filter(|_| ctx.opts.shading != Shading::Phong);
     let mut setup = DrawSetup::new(*mesh, &transforms, flip);
     let mut filled_unclipped = false;
-    if let Some((cache, scale)) = cache {
+    if let Some((cache, scale)) = cache.zip(scale) {
         filled_unclipped = vertex::fill_cache(ctx, (&setup, &transforms), cache, scale);
         if filled_unclipped && from_cache {
             return Transformed::Filled(flip);
@@ -521,10 +524,6 @@ fn draw_submesh<C: FrameColor, D: DepthBuffer, const L: usize>(
 /// A draw's rows and vertices in the scratch (see [`Scratch::for_draw`]).
 type Caches<'s> = (Option<&'s mut [TriangleRows]>, Option<&'s mut [TransformedVertex]>, Option<DrawChunks<'s>>);
 
-/// [`Caches`] as [`transform_and_draw`] takes them: the vertices with their texel scale.
-type TransformCaches<'s> =
-    (Option<&'s mut [TriangleRows]>, Option<(&'s mut [TransformedVertex], (f32, f32))>, Option<DrawChunks<'s>>);
-
 /// The material sub-mesh `sub` draws with (the default one when it has none).
 fn material_of(model: &Model<'_>, sub: &SubMesh) -> Material {
     sub.material.and_then(|m| model.material(m)).unwrap_or_default()
@@ -569,32 +568,4 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
     }
     scratch.summarise_rows(triangles, ctx.window.row_start <= 0 && ctx.window.row_end >= i32::from(ctx.height));
     stats
-}
-
-/// Whether `mesh` placed by `place()` may be in view (see [`sphere_visible`]). Not inlined, for
-/// the same reason as [`DrawSetup::new`].
-#[inline(never)]
-fn in_view<const L: usize>(ctx: &Context<'_, L>, mesh: &Mesh<'_>, place: impl FnOnce() -> Mat4) -> bool {
-    sphere_visible(&ctx.frame.vp, &place(), mesh.bounding_sphere())
-}
-
-/// Whether a local-space bounding sphere, placed by `world`, may be inside the view frustum.
-fn sphere_visible(vp: &Mat4, world: &Mat4, (centre, radius): (Vec3, f32)) -> bool {
-    let c = world.transform_point3(centre);
-    let r = radius * crate::math::max_axis_scale(world);
-    let rows = [vp.row(0), vp.row(1), vp.row(2), vp.row(3)];
-    let planes = [
-        rows[3] + rows[0],
-        rows[3] - rows[0],
-        rows[3] + rows[1],
-        rows[3] - rows[1],
-        rows[3] + rows[2],
-        rows[3] - rows[2],
-    ];
-    planes.iter().all(|p| {
-        let n = p.truncate().length();
-        // A NaN anywhere makes `outside` false: draw, and let clipping cull per triangle.
-        let outside = p.truncate().dot(c) + p.w < -r * n;
-        !outside
-    })
 }

@@ -10,6 +10,7 @@ use super::fragment::{fill, fill_as, Corners, LitBy, Variant};
 use super::line::{line, plot};
 use super::raster::{area_in_guard_band, facing, facing_in_guard_band, in_guard_band, Reject, ScreenVertex};
 use super::scratch::{TransformedVertex, TriangleRows};
+use super::setup::Projection;
 use super::span::Diffuse;
 use super::varyings::{PixelLit, VertexLit};
 use super::vertex::{
@@ -236,7 +237,9 @@ fn draw_other<C: FrameColor, D: DepthBuffer, const L: usize>(
             rows
         }
         Other::Inside(tri, known) => draw_polygon(band, ctx, &tri, known, surface, stats),
-        Other::Clipped(tri, corners) => draw_clipped(band, ctx, (&tri, &corners), surface, stats),
+        Other::Clipped(tri, corners) => {
+            draw_clipped(band, ctx, (&tri, &corners, &s.transforms().projection), surface, stats)
+        }
     }
 }
 
@@ -406,12 +409,12 @@ fn full_varyings<const L: usize>(
 fn draw_clipped<C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
     ctx: &Context<'_, L>,
-    (tri, corners): (&[ClipVertex; 3], &[Projected; 3]),
+    (tri, corners, projection): (&[ClipVertex; 3], &[Projected; 3], &Projection),
     surface: &Surface<'_, '_>,
     stats: &mut Stats,
 ) -> TriangleRows {
     let mut poly = Polygon::new();
-    if cut(tri, &ctx.guard, &mut poly) == ClipResult::Outside {
+    if cut(tri, &projection.guard, &mut poly) == ClipResult::Outside {
         stats.culled_frustum += 1;
         return TriangleRows::EMPTY;
     }
@@ -423,7 +426,7 @@ fn draw_clipped<C: FrameColor, D: DepthBuffer, const L: usize>(
         .iter()
         .map(|v| match tri.iter().position(|c| same(c.pos, v.pos)) {
             Some(k) => corners[k].screen_vertex(v.varyings.map(crate::math::to_i32)),
-            None => project(v, ctx.half),
+            None => project(v, projection.half),
         })
         .collect();
     draw_polygon(band, ctx, &screen, (None, None), surface, stats)

@@ -4,10 +4,11 @@
 //! or draw (`triangles` does).
 
 use super::scratch::DrawChunks;
-use super::{Context, TransformedVertex};
+use super::{Context, GuardBand, TransformedVertex};
 use crate::format::{Arrays, Mesh};
 use crate::light::FixedLights;
 use crate::math::{normal_matrix, FixedTransform, Mat3, Mat4, Vec3};
+use crate::target::GUARD_HALF_EXTENT;
 
 /// Per-draw constants.
 pub(crate) struct DrawSetup<'a, const L: usize> {
@@ -36,6 +37,29 @@ pub(crate) struct Transforms<const L: usize> {
     /// [`PreparedLights::fixed`]) and the normal matrix is a rotation; on every target, as it
     /// costs fewer instructions than f32 even with an FPU.
     pub(crate) fixed_lights: Option<FixedLights<L>>,
+    /// Where clip space lands on the frame.
+    pub(crate) projection: Projection,
+}
+
+/// Where clip space lands on the band's frame: half its width and height in pixels, and the
+/// guard band in NDC units. With the transforms: only a draw that projects vertices needs it
+/// (two divisions, soft-float without an FPU: not made in a band that draws from the vertex
+/// cache).
+#[derive(Clone, Copy)]
+pub(crate) struct Projection {
+    pub(crate) half: (f32, f32),
+    pub(crate) guard: GuardBand,
+}
+
+impl Projection {
+    /// The projection of `ctx`'s frame.
+    fn of<const L: usize>(ctx: &Context<'_, L>) -> Self {
+        let (w, h) = (ctx.window.width as f32, f32::from(ctx.height));
+        Projection {
+            half: (w * 0.5, h * 0.5),
+            guard: GuardBand { gx: GUARD_HALF_EXTENT / (w * 0.5), gy: GUARD_HALF_EXTENT / (h * 0.5) },
+        }
+    }
 }
 
 /// How a draw's vertices reach clip space: one of two, never both (stack: the draw's frame lives
@@ -56,11 +80,12 @@ impl<const L: usize> Transforms<L> {
         normals: Mat3::IDENTITY,
         rotation: true,
         fixed_lights: None,
+        projection: Projection { half: (1.0, 1.0), guard: GuardBand { gx: 1.0, gy: 1.0 } },
     };
 
     /// The transforms of `mesh` placed by `world`.
     fn new(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4) -> Self {
-        let model_q = *world * mesh.dequantize();
+        let model_q = dequantized(world, mesh.dequantization());
         let normals = normal_matrix(world);
         let (mvp, sphere) = (ctx.frame.vp * model_q, mesh.bounding_sphere());
         let fixed = ctx.opts.fixed_vertices.then_some(()).and_then(|()| {
@@ -79,18 +104,29 @@ impl<const L: usize> Transforms<L> {
             model_q,
             normals,
             rotation,
+            projection: Projection::of(ctx),
         }
     }
 }
 
 impl<const L: usize> Transforms<L> {
     /// The transforms of `mesh` placed by `place()` (`transform · world`), and whether that
-    /// mirrors. Not inlined, and the matrix made here: it and its temporaries stay out of the
-    /// caller's frame.
+    /// mirrors; with `test_view`, `None` when the mesh's bounding sphere is out of view (see
+    /// [`sphere_visible`]). The matrix made once for both (soft-float without an FPU: a
+    /// product is about 4,000 instructions on Armv6-M). Not inlined, and the matrix made here:
+    /// it and its temporaries stay out of the caller's frame.
     #[inline(never)]
-    pub(crate) fn placed(ctx: &Context<'_, L>, mesh: &Mesh<'_>, place: impl FnOnce() -> Mat4) -> (Self, bool) {
+    pub(crate) fn placed(
+        ctx: &Context<'_, L>,
+        mesh: &Mesh<'_>,
+        place: impl FnOnce() -> Mat4,
+        test_view: bool,
+    ) -> Option<(Self, bool)> {
         let world = place();
-        (Transforms::new(ctx, mesh, &world), Mat3::from_mat4(world).determinant() < 0.0)
+        if test_view && !sphere_visible(&ctx.frame.vp, &world, mesh.bounding_sphere()) {
+            return None;
+        }
+        Some((Transforms::new(ctx, mesh, &world), Mat3::from_mat4(world).determinant() < 0.0))
     }
 }
 
@@ -139,4 +175,37 @@ impl<'a, const L: usize> DrawSetup<'a, L> {
         debug_assert!(self.transforms.is_some(), "transforms asked of a draw made without them");
         self.transforms.unwrap_or(&Transforms::NONE)
     }
+}
+
+/// `world · dequantize` for a mesh's dequantization (scale and offset): the product's columns
+/// without its multiplications by zero, the same values as the whole product (but for the
+/// sign of a zero).
+fn dequantized(world: &Mat4, (scale, offset): (Vec3, Vec3)) -> Mat4 {
+    Mat4::from_cols(
+        world.x_axis * scale.x,
+        world.y_axis * scale.y,
+        world.z_axis * scale.z,
+        world.x_axis * offset.x + world.y_axis * offset.y + world.z_axis * offset.z + world.w_axis,
+    )
+}
+
+/// Whether a local-space bounding sphere, placed by `world`, may be inside the view frustum.
+fn sphere_visible(vp: &Mat4, world: &Mat4, (centre, radius): (Vec3, f32)) -> bool {
+    let c = world.transform_point3(centre);
+    let r = radius * crate::math::max_axis_scale(world);
+    let rows = [vp.row(0), vp.row(1), vp.row(2), vp.row(3)];
+    let planes = [
+        rows[3] + rows[0],
+        rows[3] - rows[0],
+        rows[3] + rows[1],
+        rows[3] - rows[1],
+        rows[3] + rows[2],
+        rows[3] - rows[2],
+    ];
+    planes.iter().all(|p| {
+        let n = p.truncate().length();
+        // A NaN anywhere makes `outside` false: draw, and let clipping cull per triangle.
+        let outside = p.truncate().dot(c) + p.w < -r * n;
+        !outside
+    })
 }
