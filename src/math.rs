@@ -198,9 +198,30 @@ pub fn order_key(x: f32) -> i32 {
 #[inline]
 #[must_use]
 pub fn scale_by_power_of_two(x: f32, e: i32) -> f32 {
+    // Without an FPU the two multiplications are library calls (about 80 instructions each
+    // on Armv6-M); a normal result of a normal `x` is its exponent moved, the same bits.
+    #[cfg(soft_float)]
+    if let Some(y) = exponent_moved(x, e) {
+        return y;
+    }
     // Two factors keep each one a normal float.
     let pow2 = |k: i32| f32::from_bits(((127 + k) as u32) << 23);
     x * pow2(e / 2) * pow2(e - e / 2)
+}
+
+/// `x · 2^e` by its exponent alone, when `x` and the result are normal floats (then exact, as
+/// the product is), or `x` itself when it is a zero; `None` otherwise (subnormal, infinite or
+/// NaN, either way).
+#[cfg_attr(not(soft_float), allow(dead_code))]
+fn exponent_moved(x: f32, e: i32) -> Option<f32> {
+    let bits = x.to_bits();
+    if bits << 1 == 0 {
+        return Some(x);
+    }
+    let exp = ((bits >> 23) & 0xff) as i32;
+    let moved = exp.wrapping_add(e);
+    ((1..255).contains(&exp) && (1..255).contains(&moved))
+        .then(|| f32::from_bits((bits & !(0xff << 23)) | ((moved as u32) << 23)))
 }
 
 /// `v as f32 · 2^-e` (`v as f32` rounds to nearest, ties to even), for `|e| <= 120`.
@@ -224,11 +245,7 @@ pub fn i64_to_f32_scaled(v: i64, e: i32) -> f32 {
 #[cfg_attr(not(soft_float), allow(dead_code))]
 fn soft_i64_to_f32_scaled(v: i64, e: i32) -> f32 {
     let f = bits_i64_to_f32(v);
-    let exp = ((f.to_bits() >> 23) & 0xff) as i32;
-    if exp > 0 && (1..255).contains(&(exp - e)) {
-        return f32::from_bits((f.to_bits() & !(0xff << 23)) | (((exp - e) as u32) << 23));
-    }
-    scale_by_power_of_two(f, -e)
+    exponent_moved(f, -e).unwrap_or_else(|| scale_by_power_of_two(f, -e))
 }
 
 /// `v as f32` in integer code: the top 24 significant bits, rounded to nearest, ties to even.
@@ -594,6 +611,31 @@ mod tests {
                 assert_eq!(soft_i64_to_f32_scaled(v, e).to_bits(), want.to_bits(), "{v} / 2^{e}");
             }
         }
+    }
+
+    /// Moving the exponent gives the product's bits wherever it gives any: every exponent and
+    /// the special values, scaled by every power in reach (`scale_by_power_of_two`'s range).
+    #[test]
+    fn exponent_moved_is_the_product() {
+        let mut values = std::vec![0.0f32, -0.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, f32::MIN_POSITIVE, 1e-40];
+        values.extend(
+            (0..=255u32)
+                .flat_map(|exp| [exp << 23 | 0x2a_5a5a, 1 << 31 | exp << 23, exp << 23 | 0x7f_ffff])
+                .map(f32::from_bits),
+        );
+        let mut moved = 0;
+        for x in values {
+            for e in -120..=120 {
+                let pow2 = |k: i32| f32::from_bits(((127 + k) as u32) << 23);
+                let product = x * pow2(e / 2) * pow2(e - e / 2);
+                if let Some(y) = exponent_moved(x, e) {
+                    assert_eq!(y.to_bits(), product.to_bits(), "{x:e} * 2^{e}");
+                    moved += 1;
+                }
+                assert_eq!(scale_by_power_of_two(x, e).to_bits(), product.to_bits(), "{x:e} * 2^{e}");
+            }
+        }
+        assert!(moved > 100_000, "{moved}");
     }
 
     /// The integer conversion of FPU-less targets equals `as i32` and floor for every special
