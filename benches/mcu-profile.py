@@ -43,6 +43,7 @@ STAGES = [
     ("band clear", ["Band$LT$C$C$D$GT$::clear", "memset", "memclr"]),
     ("vertex fetch, transform, culling, fan-out", ["pipeline::primitive", "pipeline::vertex", "fragment::fill",
                                                      "format::mesh", "pipeline::scratch", "pipeline::draw_mesh_with",
+                                                     "pipeline::transform_and_draw", "pipeline::setup",
                                                      "pipeline::draw_all", "Renderer", "fill"]),
     ("memcpy", ["memcpy"]),
 ]

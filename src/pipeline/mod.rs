@@ -2,9 +2,9 @@
 //!
 //! A triangle's path, one file a stage:
 //!
-//! 1. `mod.rs` (here): per frame and per band, the [`Context`]; per mesh, the bounding-sphere
-//!    test and the [`DrawSetup`]; per triangle, the [`Scratch`] row test that skips triangles a
-//!    band cannot touch.
+//! 1. `mod.rs` (here): per frame and per band, the [`Context`]; per mesh, its draw (`setup.rs`:
+//!    the bounding-sphere test, the transforms and the [`DrawSetup`]); per triangle, the
+//!    [`Scratch`] row test that skips triangles a band cannot touch.
 //! 2. `vertex.rs`: fetch, transform (f32 or fixed-point), light per vertex, project, outcode;
 //!    once a frame per vertex with the vertex cache in [`Scratch`]. `triangles.rs`: a band's
 //!    loops over a mesh's triangles (the first band's learns their rows).

@@ -14,7 +14,8 @@ use crate::target::GUARD_HALF_EXTENT;
 pub(crate) struct DrawSetup<'a, const L: usize> {
     /// The draw's transforms; `None` where every triangle fills from the vertex cache, which
     /// needs none (see `draw_mesh_with`). Borrowed: they live in the frame that made them
-    /// (`transform_and_draw`), not in the frame that draws from the cache.
+    /// (`transform_and_draw`, or the back-to-front draw's), not in the frame that draws from
+    /// the cache.
     transforms: Option<&'a Transforms<L>>,
     pub(crate) flip: bool,
     pub(crate) uv: ([f32; 2], [f32; 2]),
@@ -34,7 +35,8 @@ pub(crate) struct Transforms<const L: usize> {
     /// `normals` is a rotation (to 1e-6): stored unit normals stay unit, no normalising.
     pub(crate) rotation: bool,
     /// Gouraud vertex light in integers, whenever the lights allow it (see
-    /// [`PreparedLights::fixed`]) and the normal matrix is a rotation; on every target, as it
+    /// [`PreparedLights::fixed`](crate::light::PreparedLights::fixed)) and the normal matrix is
+    /// a rotation; on every target, as it
     /// costs fewer instructions than f32 even with an FPU.
     pub(crate) fixed_lights: Option<FixedLights<L>>,
     /// Where clip space lands on the frame.
@@ -68,7 +70,7 @@ pub(crate) enum ClipTransform {
     /// The model-view-projection matrix, in f32.
     Float(Mat4),
     /// The integer transform and the bounding sphere it maps float positions into, with
-    /// [`RenderOptions::fixed_vertices`].
+    /// [`RenderOptions::fixed_vertices`](super::RenderOptions::fixed_vertices).
     Fixed(FixedTransform, (Vec3, f32)),
 }
 
@@ -139,7 +141,7 @@ impl<'a, const L: usize> DrawSetup<'a, L> {
 
     /// [`DrawSetup::new`] without the transforms, for a band that fills every triangle from the
     /// vertex cache and so needs none (see `draw_mesh_with`); `flip`: whether the draw's
-    /// transform mirrors, as `new` found it.
+    /// transform mirrors, as [`Transforms::placed`] found it.
     #[inline(always)]
     pub(crate) fn without_transforms(mesh: Mesh<'a>, flip: bool) -> Self {
         Self::with(None, mesh, flip)
@@ -178,7 +180,8 @@ impl<'a, const L: usize> DrawSetup<'a, L> {
 }
 
 /// `world · dequantize` for a mesh's dequantization (scale and offset): the product's columns
-/// without its multiplications by zero, the same values as the whole product (but for the
+/// without its multiplications by zero, the same values as the whole product for a finite
+/// `world` (but for the
 /// sign of a zero).
 fn dequantized(world: &Mat4, (scale, offset): (Vec3, Vec3)) -> Mat4 {
     Mat4::from_cols(

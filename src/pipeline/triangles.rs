@@ -119,8 +119,8 @@ fn learnt(rows: TriangleRows) -> Option<Learnt> {
 }
 
 /// [`draw_triangle`] out of line: for [`draw_touching`] (whose loop, skipping the triangles a
-/// band does not touch, stays small) where [`Later`] does not draw, draws without a row
-/// cache, and the first band's other cases.
+/// band does not touch, stays small) where [`Later`] does not draw or the rows are not
+/// learnt, draws without a row cache, and the first band's other cases.
 #[inline(never)]
 fn draw_one<'c, C: FrameColor, D: DepthBuffer, const L: usize>(
     band: &mut Band<'_, C, D>,
