@@ -540,22 +540,29 @@ impl<const V: usize> Setup<V> {
     /// The sink is called through `dyn`: one copy of this loop per varying count instead of
     /// one per shader (flash), at the cost of an indirect call per span. The common variants
     /// walk the same rows without that call ([`Setup::walked_rows`]).
+    #[inline(always)]
     pub fn for_each_span(&self, subspan: u32, sink: &mut dyn SpanSink<V>) {
         // Beyond 4096 no span is long enough to tell the difference; the cap keeps x + subspan
         // from overflowing.
         let subspan = subspan.clamp(1, 1 << 12) as i32;
+        for row in self.covered_rows() {
+            self.row_spans(sink, subspan, row);
+        }
+    }
+
+    /// The runs of the covered row `(y, dy, lo, hi)` (see [`Setup::covered_rows`]), as
+    /// [`Setup::for_each_span`] hands them out. Out of line: its temporaries (the exact rows')
+    /// in a frame of their own, above the span loop's, not in the frame of every caller (the
+    /// variants that walk their rows call it for a row cut into runs, under their set-up's
+    /// frame: the deepest stack).
+    #[inline(never)]
+    pub(crate) fn row_spans(&self, sink: &mut dyn SpanSink<V>, subspan: i32, (y, dy, lo, hi): (i32, i32, i32, i32)) {
         match &self.affine {
             Some(p) => {
-                for (y, dy, lo, hi) in self.covered_rows() {
-                    let (v, dv) = p.at(lo, dy);
-                    self.emit(sink, y, lo, hi + 1, self.depth_at(lo, dy), v, dv);
-                }
+                let (v, dv) = p.at(lo, dy);
+                self.emit(sink, y, lo, hi + 1, self.depth_at(lo, dy), v, dv);
             }
-            None => {
-                for (y, dy, lo, hi) in self.covered_rows() {
-                    self.exact_row(sink, subspan, (y, dy, lo, hi));
-                }
-            }
+            None => self.exact_row(sink, subspan, (y, dy, lo, hi)),
         }
     }
 

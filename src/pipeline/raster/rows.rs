@@ -341,8 +341,10 @@ impl<const V: usize> WalkedRows<'_, V> {
     }
 
     /// Hands the runs of a [`WalkedRow::Cut`] row to `sink`, as [`Setup::for_each_span`] does.
-    pub(crate) fn cut_row(&self, sink: &mut dyn SpanSink<V>, (y, dy, lo, hi): (i32, i32, i32, i32)) {
-        self.setup.exact_row(sink, 1, (y, dy, lo, hi));
+    pub(crate) fn cut_row(&self, sink: &mut dyn SpanSink<V>, row: (i32, i32, i32, i32)) {
+        // An exact triangle's row: `row_spans` gives it to `exact_row`.
+        debug_assert!(!self.setup.is_affine());
+        self.setup.row_spans(sink, 1, row);
     }
 }
 
