@@ -438,7 +438,7 @@ pub(crate) fn draw_mesh_with<C: FrameColor, D: DepthBuffer, const L: usize>(
 
 /// What [`transform_and_draw`] did.
 enum Transformed {
-    /// Nothing: the mesh is out of view (see [`Transforms::placed`]).
+    /// Nothing: the mesh is out of view (see [`Transforms::placement`]).
     OutOfView,
     /// It drew the mesh; whether it filled the vertex cache with no vertex needing clipping, and
     /// then whether the transform mirrors.
@@ -464,9 +464,10 @@ fn transform_and_draw<C: FrameColor, D: DepthBuffer, const L: usize>(
     from_cache: bool,
     stats: &mut Stats,
 ) -> Transformed {
-    let Some((transforms, flip)) = Transforms::placed(ctx, mesh, place, test_view) else {
+    let Some((world, flip)) = Transforms::placement(ctx, mesh, place, test_view) else {
         return Transformed::OutOfView;
     };
+    let transforms = Transforms::new(ctx, mesh, &world);
     // The cache holds one set of texel coordinates, and nothing Phong needs.
     let scale = uniform_texel_scale(ctx, model, mesh).filter(|_| ctx.opts.shading != Shading::Phong);
     let mut setup = DrawSetup::new(*mesh, &transforms, flip);

@@ -85,8 +85,10 @@ impl<const L: usize> Transforms<L> {
         projection: Projection { half: (1.0, 1.0), guard: GuardBand { gx: 1.0, gy: 1.0 } },
     };
 
-    /// The transforms of `mesh` placed by `world`.
-    fn new(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4) -> Self {
+    /// The transforms of `mesh` placed by `world` (see [`Transforms::placement`]). Not inlined:
+    /// its matrix temporaries stay out of the caller's frame.
+    #[inline(never)]
+    pub(crate) fn new(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4) -> Self {
         let model_q = dequantized(world, mesh.dequantization());
         let normals = normal_matrix(world);
         let (mvp, sphere) = (ctx.frame.vp * model_q, mesh.bounding_sphere());
@@ -112,23 +114,24 @@ impl<const L: usize> Transforms<L> {
 }
 
 impl<const L: usize> Transforms<L> {
-    /// The transforms of `mesh` placed by `place()` (`transform · world`), and whether that
+    /// The world matrix of `mesh` placed by `place()` (`transform · world`), and whether it
     /// mirrors; with `test_view`, `None` when the mesh's bounding sphere is out of view (see
-    /// [`sphere_visible`]). The matrix made once for both (soft-float without an FPU: a
-    /// product is about 4,000 instructions on Armv6-M). Not inlined, and the matrix made here:
-    /// it and its temporaries stay out of the caller's frame.
+    /// [`sphere_visible`]). The matrix made once for the view test and the transforms
+    /// ([`Transforms::new`]; soft-float without an FPU: a product is about 4,000 instructions
+    /// on Armv6-M). Not inlined, and the transforms made by the caller, not here: their frames
+    /// side by side, not one under the other (the stack).
     #[inline(never)]
-    pub(crate) fn placed(
+    pub(crate) fn placement(
         ctx: &Context<'_, L>,
         mesh: &Mesh<'_>,
         place: impl FnOnce() -> Mat4,
         test_view: bool,
-    ) -> Option<(Self, bool)> {
+    ) -> Option<(Mat4, bool)> {
         let world = place();
         if test_view && !sphere_visible(&ctx.frame.vp, &world, mesh.bounding_sphere()) {
             return None;
         }
-        Some((Transforms::new(ctx, mesh, &world), Mat3::from_mat4(world).determinant() < 0.0))
+        Some((world, Mat3::from_mat4(world).determinant() < 0.0))
     }
 }
 
@@ -141,7 +144,7 @@ impl<'a, const L: usize> DrawSetup<'a, L> {
 
     /// [`DrawSetup::new`] without the transforms, for a band that fills every triangle from the
     /// vertex cache and so needs none (see `draw_mesh_with`); `flip`: whether the draw's
-    /// transform mirrors, as [`Transforms::placed`] found it.
+    /// transform mirrors, as [`Transforms::placement`] found it.
     #[inline(always)]
     pub(crate) fn without_transforms(mesh: Mesh<'a>, flip: bool) -> Self {
         Self::with(None, mesh, flip)
