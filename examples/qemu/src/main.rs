@@ -180,7 +180,7 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
                 band.clear(Rgb565::BLACK);
                 // Instrumentation in the first frame only: it cancels out of the per-frame count.
                 let painted = (frame == 1).then(|| repaint_free_stack(&mut firmware_stack));
-                stats += draw(&renderer, &mut band, (&model, transform), &mut cache)?;
+                stats += draw(&renderer, &mut band, &model, transform, &mut cache)?;
                 if let Some((sp, from)) = painted {
                     core_stack = core_stack.max(sp.saturating_sub(lowest_touched_stack(from)) as u32);
                 }
@@ -223,7 +223,8 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
 fn draw(
     renderer: &Renderer<'_, 1>,
     band: &mut Band<'_, Rgb565, &mut [u16]>,
-    (model, transform): (&Model<'_>, Mat4),
+    model: &Model<'_>,
+    transform: Mat4,
     scratch: &mut Scratch<'_>,
 ) -> Result<Stats, &'static str> {
     renderer.draw(band, model, transform, scratch).map_err(|_| "draw refused")
