@@ -334,8 +334,12 @@ impl<const V: usize> Setup<V> {
     }
 
     /// [`Setup::with_area`] of a triangle whose [`CoveredBox`] is `bbox` (infallible: built in
-    /// place, not moved out of a `Result`).
-    #[inline(always)]
+    /// place, not moved out of a `Result`). Out of line with an FPU: its temporaries then stay
+    /// out of the frame of `fragment::fragments`, which lives on under the row walks (core stack
+    /// -88 bytes; Cortex-M4F reference frame -7.6k instructions, by the registers it frees);
+    /// inlined without one (thumbv6m +46k otherwise).
+    #[cfg_attr(soft_float, inline(always))]
+    #[cfg_attr(not(soft_float), inline(never))]
     pub(crate) fn in_box(tri: &[Corner<V>; 3], bbox: &CoveredBox, area: i32, fpu: bool) -> Self {
         let CoveredBox { x0, x1, y0, y1, min_y, max_y } = *bbox;
         let ([a, b, c], (ox, oy), fy0, edges) = oriented(tri, bbox, area);
