@@ -50,12 +50,13 @@ pub(super) fn draw_range<C: FrameColor, D: DepthBuffer, const L: usize>(
 }
 
 /// Draws (with `draw`) the triangles from `first` on whose rows `seen` may touch rows
-/// `start..end`, learning their rows, and returns how many. Out of line, a loop of its own: in a
-/// band of a frame of many, most triangles are skipped, and the bounds stay in registers. The
-/// triangles drawn are counted, not the ones skipped, so that loop is the test alone. A chunk
-/// of triangles whose summary (see [`RowChunks`](super::scratch::RowChunks)) misses the band
-/// is skipped whole.
-#[inline(never)]
+/// `start..end`, learning their rows, and returns how many. In a band of a frame of many, most
+/// triangles are skipped: the triangles drawn are counted, not the ones skipped, so that loop
+/// is the test alone. A chunk of triangles whose summary (see
+/// [`RowChunks`](super::scratch::RowChunks)) misses the band is skipped whole. Inlined, with
+/// [`Later::draw_learnt`], into `draw_submesh`: out of line, their two frames lay under every
+/// later band's triangle (the deepest stack: 88 bytes more; the same instructions).
+#[inline(always)]
 fn draw_touching(
     (seen, chunks): (&mut [TriangleRows], &Option<DrawChunks<'_>>),
     first: u32,
@@ -204,10 +205,9 @@ impl<'b, 'a, 'c, C: FrameColor, D: DepthBuffer, const L: usize> Later<'b, 'a, 'c
         }
     }
 
-    /// [`draw_triangle`] of triangle `t`, whose rows an earlier band `learnt`. Out of line,
-    /// for [`draw_touching`]; the triangle and its rows in registers, not a tuple in memory
-    /// (Cortex-M4F, 8 bands: -6.4k instructions a frame).
-    #[inline(never)]
+    /// [`draw_triangle`] of triangle `t`, whose rows an earlier band `learnt`: the triangle and
+    /// its rows in registers, not a tuple in memory (see [`draw_touching`]).
+    #[inline(always)]
     fn draw_learnt(&mut self, t: u32, learnt: Learnt, stats: &mut Stats) -> TriangleRows {
         let surface = (self.surface, Some(self.variant));
         let idx = self.indices.triangle(t).unwrap_or_else(|| self.s.arrays.triangle(t));
