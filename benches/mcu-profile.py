@@ -32,7 +32,7 @@ import sys
 
 STAGES = [
     ("pixel loop (depth test, texel, light, store)", ["SpanSink", "Shader$LT$C$C$D$C$B$C$Lt$C$_$GT$::run", "fragment::lit_fragment"]),
-    ("rows and spans (edges, plane or exact varyings per run)", ["for_each_span", "raster::Setup<_>::emit", "WalkedRows", "draw_rows", "linear_row", "exact_row",
+    ("rows and spans (edges, plane or exact varyings per run)", ["for_each_span", "row_spans", "raster::runs", "raster::Setup<_>::emit", "WalkedRows", "draw_rows", "linear_row", "exact_row",
                                                                  "PixelRows", "RowCursor", "draw_pixel_rows", "draw_affine_rows"]),
     ("triangle set-up (edges, depth plane, affine test)", ["Setup", "SmallTriangle", "raster::facing", "AffinePlanes"]),
     ("lighting per vertex", ["Lights", "light::sum_lights", "OneFixedLight", "sqrtf"]),

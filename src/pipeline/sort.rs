@@ -42,10 +42,10 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
     // One draw's run of triangles at a time, with that draw's transforms.
     for run in list.chunk_by(|a, b| a.draw == b.draw) {
         let Some((mesh, world)) = run.first().and_then(|e| model.placed_draw(e.draw as usize)) else { continue };
-        let Some((world, flip)) = Transforms::placement(ctx, &mesh, || transform * model.world(world), false) else {
+        let Some((placed, flip)) = Transforms::placement(ctx, &mesh, || transform * model.world(world), false) else {
             continue;
         };
-        let transforms = Transforms::new(ctx, &mesh, &world);
+        let transforms = Transforms::new(ctx, &mesh, &placed);
         let setup = &DrawSetup::new(mesh, &transforms, flip);
         for e in run {
             stats.triangles_submitted = stats.triangles_submitted.saturating_add(1);

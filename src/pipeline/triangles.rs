@@ -53,9 +53,11 @@ pub(super) fn draw_range<C: FrameColor, D: DepthBuffer, const L: usize>(
 /// `start..end`, learning their rows, and returns how many. In a band of a frame of many, most
 /// triangles are skipped: the triangles drawn are counted, not the ones skipped, so that loop
 /// is the test alone. A chunk of triangles whose summary (see
-/// [`RowChunks`](super::scratch::RowChunks)) misses the band is skipped whole. Inlined, with
-/// [`Later::draw_learnt`], into `draw_submesh`: out of line, their two frames lay under every
-/// later band's triangle (the deepest stack: 88 bytes more; the same instructions).
+/// [`RowChunks`](super::scratch::RowChunks)) misses the band is skipped whole. Inlined into
+/// `draw_submesh`, and [`Later::draw_learnt`] into the per-triangle closure that `draw_range`
+/// hands it (which LLVM keeps out of line, 88 bytes): before, the frames of this function and
+/// of `draw_learnt` (96 + 88 bytes) lay under every later band's triangle (the deepest stack;
+/// the same instructions).
 #[inline(always)]
 fn draw_touching(
     (seen, chunks): (&mut [TriangleRows], &Option<DrawChunks<'_>>),
@@ -194,9 +196,7 @@ impl<'b, 'a, 'c, C: FrameColor, D: DepthBuffer, const L: usize> Later<'b, 'a, 'c
 
     /// [`draw_triangle`] of triangle `t`, whose row cache entry is `rows`, in the common case:
     /// [`Later::draw_learnt`] when an earlier band learnt its rows, else [`draw_one`] (which
-    /// tests it all). The test here, in [`draw_touching`]'s loop, so that the call it makes
-    /// for nearly every triangle has no other case in it (Cortex-M4F, 8 bands: -10.3k
-    /// instructions a frame).
+    /// tests it all).
     #[inline(always)]
     fn draw(&mut self, t: u32, rows: TriangleRows, stats: &mut Stats) -> TriangleRows {
         match learnt(rows) {
@@ -205,8 +205,8 @@ impl<'b, 'a, 'c, C: FrameColor, D: DepthBuffer, const L: usize> Later<'b, 'a, 'c
         }
     }
 
-    /// [`draw_triangle`] of triangle `t`, whose rows an earlier band `learnt`: the triangle and
-    /// its rows in registers, not a tuple in memory (see [`draw_touching`]).
+    /// [`draw_triangle`] of triangle `t`, whose rows an earlier band `learnt` (inlined into
+    /// [`Later::draw`]: see [`draw_touching`]).
     #[inline(always)]
     fn draw_learnt(&mut self, t: u32, learnt: Learnt, stats: &mut Stats) -> TriangleRows {
         let surface = (self.surface, Some(self.variant));

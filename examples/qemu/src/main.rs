@@ -214,7 +214,6 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
     Ok(())
 }
 
-/// Opens the frame file on the host (truncating it).
 /// [`Renderer::draw`], inlined into the frame loop (as LTO does in a firmware of one call
 /// site) or, with the `stack-probe` feature, out of line: then every frame of the renderer lies
 /// below the one `run` measures the core stack from (see `core_stack_bytes`).
@@ -230,6 +229,7 @@ fn draw(
     renderer.draw(band, model, transform, scratch).map_err(|_| "draw refused")
 }
 
+/// Opens the frame file on the host (truncating it).
 fn create_frame_file() -> Result<File, &'static str> {
     File::create(FRAME_PATH)
         .map_err(|_| "cannot create out/qemu-frame.rgb565 (does out/ exist in QEMU's working directory?)")

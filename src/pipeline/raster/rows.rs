@@ -22,7 +22,7 @@ impl<const V: usize> Setup<V> {
     /// The rows of this triangle for a span loop that walks them itself ([`WalkedRows`]):
     /// affine triangles, and exact ones with `subspan <= 1` (0 counts as 1) and a tolerance
     /// (each row a run when linear steps between its exact ends are within it, else handed back
-    /// to [`Setup::exact_row`]), when every run's stepped depth provably stays within 0..=2^30
+    /// to [`Setup::row_spans`] through [`WalkedRows::cut_row`]), when every run's stepped depth provably stays within 0..=2^30
     /// (see [`Setup::row_cursor_inside`] for vertex depths `z`, else
     /// [`Setup::safe_depth_step`]); `None` otherwise (then [`Setup::for_each_span`]).
     #[inline(always)]

@@ -2,7 +2,7 @@
 //! triangle's rows one [`Span`] each when it is affine, else cut into runs with exact
 //! perspective-correct values at their ends ([`Setup::row_spans`]), and the span loop's side
 //! of that hand-over ([`Span`], [`SpanSink`]). The variants whose span loop walks its rows
-//! itself take only their cut rows from here (see `rows`).
+//! itself take their cut rows, and the rare triangles no walk takes, from here (see `rows`).
 
 use super::Setup;
 use crate::fixed::{depth40_to_30, Depth30, Depth40, FDot16, DEPTH30_FAR};
@@ -15,9 +15,10 @@ impl<const V: usize> Setup<V> {
     /// 1, or (with `subspan == 1` and a tolerance from [`Setup::allow_affine`]) as long as the
     /// tolerance allows stepping linearly between exact ends, halving until it does.
     ///
-    /// The sink is called through `dyn`: one copy of this loop per varying count instead of
-    /// one per shader (flash), at the cost of an indirect call per span. The common variants
-    /// walk the same rows without that call ([`Setup::walked_rows`]).
+    /// The sink is called through `dyn`: one out-of-line [`Setup::row_spans`] per varying count
+    /// instead of one per shader (flash), at the cost of an indirect call per span; this loop
+    /// over the rows is inlined where it is called. The common variants walk the same rows
+    /// without that call ([`Setup::walked_rows`]).
     #[inline(always)]
     pub fn for_each_span(&self, subspan: u32, sink: &mut dyn SpanSink<V>) {
         // Beyond 4096 no span is long enough to tell the difference; the cap keeps x + subspan
@@ -32,9 +33,10 @@ impl<const V: usize> Setup<V> {
     /// [`Setup::for_each_span`] hands them out. Out of line: its temporaries (the exact rows')
     /// in a frame of their own, above the span loop's, not in the frame of every caller (the
     /// variants that walk their rows call it for a row cut into runs, under their set-up's
-    /// frame: the deepest stack).
+    /// frame: the deepest stack). `subspan` in `1..=4096`, as `for_each_span` clamps it.
     #[inline(never)]
     pub(crate) fn row_spans(&self, sink: &mut dyn SpanSink<V>, subspan: i32, (y, dy, lo, hi): (i32, i32, i32, i32)) {
+        debug_assert!((1..=1 << 12).contains(&subspan), "subspan {subspan}");
         match &self.affine {
             Some(p) => {
                 let (v, dv) = p.at(lo, dy);
