@@ -10,6 +10,9 @@
 //! feature `checked-spans` asks for the checked Rust loop.
 
 fn main() {
+    // What follows reads only the target and the features (each build of its own), not the
+    // package's files: without this line any edited file, a script or a note, rebuilt the crate.
+    println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rustc-check-cfg=cfg(soft_float)");
     println!("cargo::rustc-check-cfg=cfg(no_hw_divide)");
     println!("cargo::rustc-check-cfg=cfg(span_asm)");

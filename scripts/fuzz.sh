@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Runs one fuzz target for a while: scripts/fuzz.sh TARGET SECONDS [CORPUS_DIR [LIBFUZZER_ARG...]]
+# (or builds them all: scripts/fuzz.sh --build-only)
 # (SECONDS 0: no time limit, for runs bounded by `-runs=N`, see scripts/fuzz-campaign.sh)
 #
 # Targets (fuzz/fuzz_targets): parse (.s3d bytes, then every accessor and a small draw),
@@ -15,7 +16,6 @@
 # Installs cargo-fuzz when it is missing.
 set -euo pipefail
 target="${1:?usage: scripts/fuzz.sh TARGET SECONDS [CORPUS_DIR]}"
-seconds="${2:?usage: scripts/fuzz.sh TARGET SECONDS [CORPUS_DIR]}"
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root/fuzz"
 
@@ -24,6 +24,12 @@ if ! cargo fuzz --version >/dev/null 2>&1; then
     cargo install --locked cargo-fuzz >&2
 fi
 
+# --build-only: builds every target with the flags below and stops (CI builds them at once).
+if [ "$target" = "--build-only" ]; then
+    exec cargo fuzz build -s none --debug-assertions
+fi
+
+seconds="${2:?usage: scripts/fuzz.sh TARGET SECONDS [CORPUS_DIR]}"
 corpus="${3:-}"
 shift $(($# < 3 ? $# : 3))
 if [ -z "$corpus" ]; then

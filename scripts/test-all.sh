@@ -74,19 +74,20 @@ for t in thumbv6m-none-eabi thumbv7em-none-eabihf riscv32imc-unknown-none-elf; d
   cargo build --release --lib --target "$t"
 done
 
-step "demo, headless (beside the short fuzz; its output after it)"
-background cargo run --release --example simulator -- --headless --frames 4
+# The demo, headless, with the host tests' build (the test profile is optimized, and
+# `cargo test` already built the example): a release build of its own cost CI five minutes.
+step "demo, headless"
+cargo run --profile test --example simulator -- --headless --frames 4
 
 step "short fuzz of every target (debug assertions on; installs cargo-fuzz)"
+# All five built in one cargo run (their binaries link in parallel), then each run reuses it.
+scripts/fuzz.sh --build-only
 for target in parse babylon texture draw buffers; do
   echo "-- $target"
   # 6 s each: a smoke run (building the targets is most of this step) that keeps CI under 30
   # minutes; the campaigns are longer (scripts/fuzz-campaign.sh).
   scripts/fuzz.sh "$target" 6
 done
-
-step "demo, headless: its output"
-finish
 
 boards=""
 if [ -x scripts/build-boards.sh ]; then
@@ -98,7 +99,8 @@ fi
 if [ -x scripts/qemu-check.sh ]; then
   step "QEMU firmware (Cortex-M4F, thumbv6m, riscv32imc) and the host comparison"
   scripts/qemu-check.sh
-  SOFT3D_REQUIRE_QEMU=1 cargo test --release --test qemu_frame -- --nocapture
+  # The host tests' (optimized) build: the host renders the same frame in every profile.
+  SOFT3D_REQUIRE_QEMU=1 cargo test --test qemu_frame -- --nocapture
 fi
 
 if [ -n "$boards" ]; then
