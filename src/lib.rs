@@ -43,6 +43,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod animation;
 mod camera;
 mod fixed;
 mod format;

@@ -72,6 +72,20 @@ pub fn cos(x: f32) -> f32 {
     libm::cosf(x)
 }
 
+/// The remainder of `x / y`, with the sign of `x` (libm).
+#[inline]
+#[must_use]
+pub fn fmod(x: f32, y: f32) -> f32 {
+    libm::fmodf(x, y)
+}
+
+/// Arc cosine (libm).
+#[inline]
+#[must_use]
+pub fn acos(x: f32) -> f32 {
+    libm::acosf(x)
+}
+
 /// Tangent (libm).
 #[inline]
 #[must_use]

@@ -5,6 +5,7 @@
 use crate::format::layout::*;
 use core::fmt;
 
+use super::emit_animation;
 use crate::convert::scene::{self, Scene};
 use crate::format::{encode_texel, Model, TextureFormat};
 use crate::math::{Mat4, Vec3};
@@ -43,34 +44,40 @@ impl fmt::Display for EmitError {
 impl std::error::Error for EmitError {}
 
 /// A growing file whose fixed-size records are reserved first and filled in later.
-struct Out(Vec<u8>);
+pub(super) struct Out(Vec<u8>);
 
 impl Out {
-    fn reserve(&mut self, len: usize) -> usize {
+    /// The quantization step of mesh `i` already written (1 for f32 positions).
+    pub(super) fn mesh_pos_scale(&self, i: usize) -> [f32; 3] {
+        let table = u32_at(&self.0, header::MESHES.start) as usize;
+        let at = table + i * mesh::LEN + mesh::POS_SCALE.start;
+        [0, 1, 2].map(|c| f32_at(&self.0, at + 4 * c))
+    }
+    pub(super) fn reserve(&mut self, len: usize) -> usize {
         let at = self.0.len();
         self.0.resize(at + len, 0);
         at
     }
-    fn append(&mut self, bytes: &[u8]) -> u32 {
+    pub(super) fn append(&mut self, bytes: &[u8]) -> u32 {
         let at = self.0.len();
         self.0.extend_from_slice(bytes);
         at as u32
     }
-    fn put(&mut self, at: usize, bytes: &[u8]) {
+    pub(super) fn put(&mut self, at: usize, bytes: &[u8]) {
         self.0[at..at + bytes.len()].copy_from_slice(bytes);
     }
-    fn put_u16(&mut self, at: usize, v: u16) {
+    pub(super) fn put_u16(&mut self, at: usize, v: u16) {
         self.put(at, &v.to_le_bytes());
     }
-    fn put_u32(&mut self, at: usize, v: u32) {
+    pub(super) fn put_u32(&mut self, at: usize, v: u32) {
         self.put(at, &v.to_le_bytes());
     }
-    fn put_f32s(&mut self, at: usize, vs: &[f32]) {
+    pub(super) fn put_f32s(&mut self, at: usize, vs: &[f32]) {
         for (k, v) in vs.iter().enumerate() {
             self.put(at + 4 * k, &v.to_le_bytes());
         }
     }
-    fn put_affine(&mut self, at: usize, m: &scene::Matrix) {
+    pub(super) fn put_affine(&mut self, at: usize, m: &scene::Matrix) {
         let rows: [f32; 12] = core::array::from_fn(|k| m[(k / 3) * 4 + k % 3]);
         self.put_f32s(at, &rows);
     }
@@ -146,9 +153,11 @@ fn check_finite_scene(scene: &Scene) -> Result<(), EmitError> {
 pub fn emit(scene: &Scene, opts: &EmitOptions) -> Result<Vec<u8>, EmitError> {
     check_finite_scene(scene)?;
     let mut out = Out(Vec::new());
-    out.reserve(header::LEN);
+    // Version 1 (which every reader since the first reads) unless the scene moves.
+    let animated = !scene.animation.is_empty();
+    out.reserve(if animated { header::LEN_V2 } else { header::LEN });
     out.put(header::MAGIC.start, &MAGIC);
-    out.put_u16(header::VERSION.start, VERSION);
+    out.put_u16(header::VERSION.start, if animated { VERSION } else { 1 });
     let counts = [
         (header::MESH_COUNT, scene.meshes.len(), "meshes"),
         (header::MATERIAL_COUNT, scene.materials.len(), "materials"),
@@ -163,7 +172,8 @@ pub fn emit(scene: &Scene, opts: &EmitOptions) -> Result<Vec<u8>, EmitError> {
     let meshes = out.reserve(mesh::LEN * scene.meshes.len());
     out.put_u32(header::MESHES.start, meshes as u32);
     for (k, m) in scene.meshes.iter().enumerate() {
-        emit_mesh(&mut out, meshes + k * mesh::LEN, m, scene.materials.len(), opts.float_positions)?;
+        let reach = emit_animation::morph_reach(scene, k);
+        emit_mesh(&mut out, meshes + k * mesh::LEN, (m, &reach), scene.materials.len(), opts.float_positions)?;
     }
     let materials = out.reserve(material::LEN * scene.materials.len());
     out.put_u32(header::MATERIALS.start, materials as u32);
@@ -200,6 +210,10 @@ pub fn emit(scene: &Scene, opts: &EmitOptions) -> Result<Vec<u8>, EmitError> {
         out.put_f32s(at + camera::POSITION.start, &c.position);
         out.put_f32s(at + camera::TARGET.start, &c.target);
         out.put_f32s(at + camera::FOV.start, &[c.fov, c.near, c.far]);
+    }
+    if animated {
+        let at = emit_animation::emit_animation(&mut out, scene)?;
+        out.put_u32(header::ANIMATION.start, at);
     }
     let len = u32::try_from(out.0.len()).map_err(|_| EmitError("scene larger than 4 GiB".into()))?;
     out.put_u32(header::FILE_LEN.start, len);
@@ -290,13 +304,16 @@ pub fn to_scene(model: &Model<'_>) -> Scene {
         near: c.near,
         far: c.far,
     });
-    Scene { meshes, materials, textures, instances, lights, camera }
+    let animation = emit_animation::read_animation(model);
+    Scene { meshes, materials, textures, instances, lights, camera, animation }
 }
 
+/// Writes mesh `m`'s record at `at` and its arrays; its bounding sphere holds `reach` too (the
+/// positions its morph targets reach).
 fn emit_mesh(
     out: &mut Out,
     at: usize,
-    m: &scene::MeshData,
+    (m, reach): (&scene::MeshData, &[[f32; 3]]),
     n_materials: usize,
     float_positions: bool,
 ) -> Result<(), EmitError> {
@@ -307,7 +324,8 @@ fn emit_mesh(
         if float_positions { ([0.0; 3], [1.0; 3]) } else { quantizer(m.positions.iter().copied()) };
     out.put_f32s(at + mesh::POS_OFFSET.start, &pos_offset);
     out.put_f32s(at + mesh::POS_SCALE.start, &pos_scale);
-    out.put_f32s(at + mesh::BOUNDS.start, &bounding_sphere(&m.positions));
+    let sphere = if reach.is_empty() { bounding_sphere(&m.positions) } else { bounding_sphere(reach) };
+    out.put_f32s(at + mesh::BOUNDS.start, &sphere);
     out.put_u32(at + mesh::VERTEX_COUNT.start, nv as u32);
     out.put_u32(at + mesh::INDEX_COUNT.start, m.indices.len() as u32);
     let wide = nv > u16::MAX as usize + 1;

@@ -25,6 +25,7 @@
 mod babylon;
 mod build;
 mod emit;
+mod emit_animation;
 pub mod scene;
 
 pub use babylon::{read_babylon, read_babylon_file, ConvertError, ConvertOptions, UvOrigin, Warning};

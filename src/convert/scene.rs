@@ -27,6 +27,192 @@ pub struct Scene {
     pub lights: Vec<LightData>,
     /// The active camera, when the file has one.
     pub camera: Option<CameraData>,
+    /// What makes the scene move: empty for a still scene.
+    pub animation: AnimationData,
+}
+
+/// A scene's animations: the nodes its tracks move, the meshes those nodes carry, the meshes'
+/// morph targets, the tracks and their groups.
+///
+/// Matrices are Babylon.js row-vector matrices. A mesh linked to an animated node is drawn with
+/// the world matrix `below · World(node)` instead of its [`MeshData::world`], where
+/// `World(node) = Local(node at the frame) · above · World(parent node)` (`World` of no node is
+/// the identity): `above` is the product of the still nodes' local matrices between a node and
+/// its animated parent (or the world matrix of its still ancestors when it has none), `below`
+/// that of the still nodes between the mesh (itself included) and its animated node (the
+/// identity when the mesh's own node is the animated one).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AnimationData {
+    /// Nodes moved by tracks, each after its animated parent.
+    pub nodes: Vec<NodeData>,
+    /// Meshes whose world matrix follows an animated node.
+    pub links: Vec<MeshLink>,
+    /// Meshes with morph targets.
+    pub morphs: Vec<MorphData>,
+    /// Every animation track (of nodes and of morph target influences).
+    pub tracks: Vec<TrackData>,
+    /// Named sets of tracks played together (`animationGroups`, and one group for the tracks
+    /// of each node or morph target that are in no file group: `autoAnimate` ranges and
+    /// animations a scene starts with `beginAnimation`).
+    pub groups: Vec<GroupData>,
+}
+
+impl AnimationData {
+    /// True when nothing moves.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.tracks.is_empty() && self.morphs.is_empty()
+    }
+}
+
+/// A node that tracks move: its position, rotation and scaling at rest (what no track sets).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeData {
+    /// The node's `name` (or `id`).
+    pub name: String,
+    /// Its nearest animated ancestor: an index into [`AnimationData::nodes`], lower than its own.
+    pub parent: Option<u16>,
+    /// The still nodes between it and `parent` (see [`AnimationData`]).
+    pub above: Matrix,
+    /// Position at rest.
+    pub position: [f32; 3],
+    /// Rotation at rest.
+    pub rotation: Rotation,
+    /// Scaling at rest.
+    pub scaling: [f32; 3],
+}
+
+/// A node's rotation, as Babylon.js stores it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Rotation {
+    /// `rotation`: Euler angles (x, y, z) in radians, `RotationYawPitchRoll(y, x, z)`.
+    Euler([f32; 3]),
+    /// `rotationQuaternion` (x, y, z, w): when a node has one, its `rotation` is ignored.
+    Quaternion([f32; 4]),
+}
+
+/// A mesh whose world matrix follows an animated node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshLink {
+    /// Index into [`Scene::meshes`].
+    pub mesh: u16,
+    /// Index into [`AnimationData::nodes`].
+    pub node: u16,
+    /// The still nodes between the mesh and the node (see [`AnimationData`]).
+    pub below: Matrix,
+}
+
+/// A mesh's morph targets.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MorphData {
+    /// Index into [`Scene::meshes`].
+    pub mesh: u16,
+    /// Its targets, in the manager's order.
+    pub targets: Vec<MorphTargetData>,
+}
+
+/// One morph target: what it adds to each vertex at influence 1.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MorphTargetData {
+    /// The target's `name`.
+    pub name: String,
+    /// Its influence when no track sets it.
+    pub influence: f32,
+    /// Target position minus base position, one per mesh vertex (local space).
+    pub positions: Vec<[f32; 3]>,
+    /// Target normal minus base normal, one per vertex, when the target has normals.
+    pub normals: Option<Vec<[f32; 3]>>,
+}
+
+/// What a track animates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrackTarget {
+    /// Components `first..first + count` of a node property (`position.x` is `first` 0,
+    /// `count` 1; `position` is 0 and 3; a quaternion 0 and 4).
+    Node {
+        /// Index into [`AnimationData::nodes`].
+        node: u16,
+        /// The property.
+        property: NodeProperty,
+        /// Its first component.
+        first: u8,
+        /// How many components the keys hold.
+        count: u8,
+    },
+    /// A morph target's influence (keys of one value).
+    Morph {
+        /// Index into [`AnimationData::morphs`].
+        morph: u16,
+        /// Index into that mesh's targets.
+        target: u16,
+    },
+}
+
+/// A node property a track sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NodeProperty {
+    /// `position`.
+    Position,
+    /// `rotation` (Euler angles).
+    Rotation,
+    /// `scaling`.
+    Scaling,
+    /// `rotationQuaternion` (slerp between keys).
+    RotationQuaternion,
+}
+
+/// What a track does past its last key (Babylon.js's `loopBehavior`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Loop {
+    /// 0: starts again, offset by the change over one loop (played as [`Loop::Cycle`]).
+    Relative,
+    /// 1: starts again.
+    #[default]
+    Cycle,
+    /// 2: keeps the last value.
+    Constant,
+}
+
+/// One animation track.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrackData {
+    /// What it moves.
+    pub target: TrackTarget,
+    /// Frames a second.
+    pub fps: f32,
+    /// Past the last key.
+    pub looping: Loop,
+    /// At least one key, by increasing frame.
+    pub keys: Vec<KeyData>,
+}
+
+/// A key of a track.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KeyData {
+    /// Its frame.
+    pub frame: f32,
+    /// Its value (the track's `count` components).
+    pub values: Vec<f32>,
+    /// Hermite tangents (in, out) when the key has them: Babylon.js interpolates with them
+    /// where both keys around a frame do.
+    pub tangents: Option<(Vec<f32>, Vec<f32>)>,
+    /// `interpolation: 1` (step): the value holds until the next key.
+    pub step: bool,
+}
+
+/// Tracks played together.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GroupData {
+    /// The group's name (for a node's or morph target's own tracks, that node's or target's).
+    pub name: String,
+    /// First frame.
+    pub from: f32,
+    /// Last frame.
+    pub to: f32,
+    /// Whether it plays again from `from` after `to`.
+    pub looping: bool,
+    /// Indices into [`AnimationData::tracks`].
+    pub tracks: Vec<u16>,
 }
 
 /// One mesh: indexed triangles in the mesh's local space plus its world matrix.

@@ -3,7 +3,7 @@
 
 use core::fmt;
 
-use super::layout::VERSION;
+use super::layout::{MIN_VERSION, VERSION};
 
 /// What part of the file a [`ParseError`] is about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,6 +36,18 @@ pub enum Part {
     Light,
     /// The camera record.
     Camera,
+    /// The animation section's header.
+    Animation,
+    /// An animated node's record.
+    Node,
+    /// A mesh's link to an animated node.
+    Link,
+    /// A morph record, a morph target record or its deltas.
+    Morph,
+    /// A track record or its keys.
+    Track,
+    /// An animation group's record, track list or name.
+    Group,
 }
 
 impl fmt::Display for Part {
@@ -55,6 +67,12 @@ impl fmt::Display for Part {
             Part::Instance => "instance record",
             Part::Light => "light record",
             Part::Camera => "camera record",
+            Part::Animation => "animation section",
+            Part::Node => "animated node record",
+            Part::Link => "mesh link record",
+            Part::Morph => "morph target data",
+            Part::Track => "animation track",
+            Part::Group => "animation group",
         };
         f.write_str(name)
     }
@@ -126,7 +144,7 @@ impl fmt::Display for ParseError {
             }
             ParseError::BadMagic => f.write_str("not an .s3d file (bad magic at offset 0)"),
             ParseError::UnsupportedVersion(v) => {
-                write!(f, "unsupported .s3d version {v} at offset 4 (this reader knows {VERSION})")
+                write!(f, "unsupported .s3d version {v} at offset 4 (this reader knows {MIN_VERSION} to {VERSION})")
             }
             ParseError::OutOfBounds { part, offset } => {
                 write!(f, "{part} referenced at offset {offset} lies outside the file")

@@ -7,7 +7,7 @@
 //! alignment (`include_bytes!` gives alignment 1). Offsets are byte offsets from the start of
 //! the file. `f32` fields must be finite. Unused (`reserved`) bytes are written as zero.
 //!
-//! **Header** (48 bytes, at offset 0)
+//! **Header** (48 bytes at offset 0; 52 in version 2)
 //!
 //! | bytes  | type     | field                                             |
 //! |--------|----------|---------------------------------------------------|
@@ -27,6 +27,7 @@
 //! | 36..40 | u32      | offset of the instance table (`count` x 52 bytes)  |
 //! | 40..44 | u32      | offset of the light table (`count` x 32 bytes)     |
 //! | 44..48 | u32      | offset of the camera record (36 bytes), 0 = none   |
+//! | 48..52 | u32      | version 2 only: offset of the animation section (32 bytes), 0 = none |
 //!
 //! **Mesh** (148 bytes). Positions, normals and UVs are quantized: a local position is
 //! `pos_offset + q * pos_scale` with `q` three u16, a normal is three i16 / 32767, a UV is
@@ -76,13 +77,61 @@
 //!
 //! **Camera** (36 bytes): 0..12 position, 12..24 target (3 x f32 each), 24..28 f32 vertical
 //! field of view in radians (0 < fov < pi), 28..32 f32 near (> 0), 32..36 f32 far (> near).
+//!
+//! # Animation
+//! Version 2 files may have one (version 1 files, which end their header at 48, have none;
+//! the converter writes version 1 for a still scene, so that its files read everywhere). What the records mean is `convert::scene`'s
+//! `AnimationData`: animated nodes, the meshes that follow them, morph targets, tracks, groups.
+//!
+//! **Animation section** (32 bytes): 0..2 u16 node count, 2..4 u16 link count, 4..6 u16 morph
+//! count, 6..8 u16 track count, 8..10 u16 group count, 10..12 u16 morph weight count (all
+//! meshes' targets), then u32 offsets of the node (12..16), link (16..20), morph (20..24),
+//! track (24..28) and group (28..32) tables.
+//!
+//! **Node** (92 bytes): 0..2 u16 parent node ([`NONE`] or a lower index), 2..4 u16 flags (bit
+//! 0: the rotation is a quaternion), 4..16 3 x f32 position, 16..32 4 x f32 rotation (Euler x,
+//! y, z and 0, or quaternion x, y, z, w), 32..44 3 x f32 scaling, 44..92 the `above` matrix (as
+//! a mesh's world matrix).
+//!
+//! **Link** (52 bytes): 0..2 u16 mesh, 2..4 u16 node, 4..52 the `below` matrix. A mesh has at
+//! most one link.
+//!
+//! **Morph** (12 bytes): 0..2 u16 mesh (at most one morph a mesh), 2..4 u16 target count (>=
+//! 1), 4..6 u16 first weight (its targets' weights are `first..first + count`, inside the
+//! weight count), 6..8 u16 flags (bit 0: normal deltas), 8..12 u32 offset of its target
+//! records.
+//!
+//! **Morph target** (20 bytes): 0..4 f32 default influence, 4..8 f32 position scale, 8..12 f32
+//! normal scale, 12..16 u32 offset of the position deltas, 16..20 u32 offset of the normal
+//! deltas (0 without). Deltas are `vertex count` x 3 x i16; a position delta is `q * scale`
+//! in *stored* units (those of [`Mesh::position_stored`](super::Mesh::position_stored), so a
+//! quantized mesh's delta is divided by its `pos_scale`), a normal delta `q * scale`. With
+//! 16 bits over each target's largest delta, a delta is within 1/65534 of that largest one.
+//!
+//! **Track** (24 bytes): 0 u8 kind (0 position, 1 rotation, 2 scaling, 3 quaternion, 4 morph
+//! influence), 1 u8 first component, 2 u8 component count (`first + count` <= 3, or 0 and 4
+//! for a quaternion, 0 and 1 for an influence), 3 u8 flags (bits 0-1 loop: 0 relative, 1
+//! cycle, 2 constant; bit 2 keys carry tangents), 4..6 u16 target (a node, or for an influence
+//! a morph weight), 8..12 u32 key count (>= 1), 12..16 f32 frames a second (> 0), 16..20 u32
+//! offset of the keys.
+//!
+//! **Key** (`8 + 4 x count`, or `8 + 12 x count` with tangents): 0..4 f32 frame (keys in
+//! increasing order, equal frames allowed), 4..8 u32 flags (bit 0: step), the values, then
+//! the in and out tangents.
+//!
+//! **Group** (24 bytes): 0..4 f32 from, 4..8 f32 to (>= from), 8..10 u16 track count, 10 u8
+//! flags (bit 0: loops), 12..16 u32 offset of its track indices (u16 each, < the track count),
+//! 16..18 u16 name length, 20..24 u32 offset of the name (UTF-8).
 
 use crate::math::{Mat4, Vec3};
 
 /// The first four bytes of every `.s3d` file.
 pub const MAGIC: [u8; 4] = *b"S3D\0";
-/// The format version this crate reads and writes.
-pub const VERSION: u16 = 1;
+/// The newest format version this crate reads and writes (it reads version 1 too, and writes it
+/// for scenes without animation).
+pub const VERSION: u16 = 2;
+/// The oldest format version this crate reads.
+pub const MIN_VERSION: u16 = 1;
 /// A `u16` reference that points at nothing (no material, no texture).
 pub const NONE: u16 = u16::MAX;
 
@@ -103,6 +152,109 @@ pub(crate) mod header {
     pub const LIGHTS: Range<usize> = 40..44;
     pub const CAMERA: Range<usize> = 44..48;
     pub const LEN: usize = 48;
+    pub const ANIMATION: Range<usize> = 48..52;
+    /// The header's length in version 2.
+    pub const LEN_V2: usize = 52;
+}
+
+pub(crate) mod animation {
+    use core::ops::Range;
+    pub const NODE_COUNT: Range<usize> = 0..2;
+    pub const LINK_COUNT: Range<usize> = 2..4;
+    pub const MORPH_COUNT: Range<usize> = 4..6;
+    pub const TRACK_COUNT: Range<usize> = 6..8;
+    pub const GROUP_COUNT: Range<usize> = 8..10;
+    pub const WEIGHT_COUNT: Range<usize> = 10..12;
+    pub const NODES: Range<usize> = 12..16;
+    pub const LINKS: Range<usize> = 16..20;
+    pub const MORPHS: Range<usize> = 20..24;
+    pub const TRACKS: Range<usize> = 24..28;
+    pub const GROUPS: Range<usize> = 28..32;
+    pub const LEN: usize = 32;
+}
+
+pub(crate) mod node {
+    use core::ops::Range;
+    pub const PARENT: Range<usize> = 0..2;
+    pub const FLAGS: Range<usize> = 2..4;
+    pub const POSITION: Range<usize> = 4..16;
+    pub const ROTATION: Range<usize> = 16..32;
+    pub const SCALING: Range<usize> = 32..44;
+    pub const ABOVE: Range<usize> = 44..92;
+    pub const LEN: usize = 92;
+    pub const FLAG_QUATERNION: u16 = 1;
+}
+
+pub(crate) mod link {
+    use core::ops::Range;
+    pub const MESH: Range<usize> = 0..2;
+    pub const NODE: Range<usize> = 2..4;
+    pub const BELOW: Range<usize> = 4..52;
+    pub const LEN: usize = 52;
+}
+
+pub(crate) mod morph {
+    use core::ops::Range;
+    pub const MESH: Range<usize> = 0..2;
+    pub const TARGET_COUNT: Range<usize> = 2..4;
+    pub const FIRST_WEIGHT: Range<usize> = 4..6;
+    pub const FLAGS: Range<usize> = 6..8;
+    pub const TARGETS: Range<usize> = 8..12;
+    pub const LEN: usize = 12;
+    pub const FLAG_NORMALS: u16 = 1;
+}
+
+pub(crate) mod morph_target {
+    use core::ops::Range;
+    pub const INFLUENCE: Range<usize> = 0..4;
+    pub const POSITION_SCALE: Range<usize> = 4..8;
+    pub const NORMAL_SCALE: Range<usize> = 8..12;
+    pub const POSITIONS: Range<usize> = 12..16;
+    pub const NORMALS: Range<usize> = 16..20;
+    pub const LEN: usize = 20;
+    /// One delta: 3 x i16.
+    pub const DELTA_LEN: usize = 6;
+}
+
+pub(crate) mod track {
+    use core::ops::Range;
+    pub const KIND: usize = 0;
+    pub const FIRST: usize = 1;
+    pub const COUNT: usize = 2;
+    pub const FLAGS: usize = 3;
+    pub const TARGET: Range<usize> = 4..6;
+    pub const KEY_COUNT: Range<usize> = 8..12;
+    pub const FPS: Range<usize> = 12..16;
+    pub const KEYS: Range<usize> = 16..20;
+    pub const LEN: usize = 24;
+    pub const LOOP_MASK: u8 = 3;
+    pub const FLAG_TANGENTS: u8 = 4;
+    pub const KIND_POSITION: u8 = 0;
+    pub const KIND_ROTATION: u8 = 1;
+    pub const KIND_SCALING: u8 = 2;
+    pub const KIND_QUATERNION: u8 = 3;
+    pub const KIND_INFLUENCE: u8 = 4;
+}
+
+pub(crate) mod key {
+    use core::ops::Range;
+    pub const FRAME: Range<usize> = 0..4;
+    pub const FLAGS: Range<usize> = 4..8;
+    pub const VALUES: usize = 8;
+    pub const FLAG_STEP: u32 = 1;
+}
+
+pub(crate) mod group {
+    use core::ops::Range;
+    pub const FROM: Range<usize> = 0..4;
+    pub const TO: Range<usize> = 4..8;
+    pub const TRACK_COUNT: Range<usize> = 8..10;
+    pub const FLAGS: usize = 10;
+    pub const TRACKS: Range<usize> = 12..16;
+    pub const NAME_LEN: Range<usize> = 16..18;
+    pub const NAME: Range<usize> = 20..24;
+    pub const LEN: usize = 24;
+    pub const FLAG_LOOP: u8 = 1;
 }
 
 pub(crate) mod mesh {

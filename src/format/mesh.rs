@@ -4,6 +4,7 @@
 
 use core::ops::Range;
 
+use super::animation::Morphing;
 use super::layout::*;
 use super::model::WorldAt;
 use crate::math::{Mat4, Vec3};
@@ -53,6 +54,13 @@ impl<'a> Mesh<'a> {
     /// Where the mesh's world matrix lies in the model's bytes (see `Model::placed_draws`).
     pub(crate) fn world_at(&self) -> WorldAt {
         WorldAt(self.at + mesh::WORLD.start)
+    }
+
+    /// This mesh's index in its model.
+    #[must_use]
+    pub fn mesh_index(&self) -> usize {
+        let table = u32_at(self.data, header::MESHES.start) as usize;
+        self.at.saturating_sub(table) / mesh::LEN
     }
 
     /// The matrix that turns a stored position ([`Mesh::position_stored`]) into a local one.
@@ -135,6 +143,7 @@ impl<'a> Mesh<'a> {
             d.get(at..at.saturating_add(count.saturating_mul(record_len))).unwrap_or(&[])
         };
         Arrays {
+            morph: None,
             positions: if self.has_f32_positions() {
                 Positions::F32(slice(mesh::POSITIONS, (nv, 12)).as_chunks().0)
             } else {
@@ -230,6 +239,8 @@ impl<'a> Mesh<'a> {
 /// Out-of-range reads give zero, like every accessor here.
 #[derive(Clone, Copy, Debug)]
 pub struct Arrays<'a> {
+    /// A pose's morph targets (see `Arrays::morphed`): added to every position and normal read.
+    morph: Option<&'a Morphing<'a>>,
     positions: Positions<'a>,
     normals: &'a [[u8; NORMAL_LEN]],
     uvs: Option<&'a [[u8; UV_LEN]]>,
@@ -261,16 +272,43 @@ impl<'a> Arrays<'a> {
         }
     }
 
+    /// These arrays with `morph`'s deltas added to every position and normal read (normals
+    /// then normalised, as Babylon.js's shader does).
+    #[must_use]
+    pub(crate) fn morphed(self, morph: &'a Morphing<'a>) -> Self {
+        Arrays { morph: Some(morph), ..self }
+    }
+
     /// See [`Mesh::position_stored`].
     #[inline]
     #[must_use]
     pub fn position_stored(&self, i: u32) -> Vec3 {
-        match self.positions {
+        self.position_as::<true>(i)
+    }
+
+    /// [`Arrays::position_stored`], morphed only when `MORPHS` (a loop over a still mesh's
+    /// vertices reads them with `false`: tested at each vertex, the morph cost 19 instructions
+    /// a vertex, as LLVM reloads the test after every write to the vertex cache).
+    #[inline]
+    #[must_use]
+    pub(crate) fn position_as<const MORPHS: bool>(&self, i: u32) -> Vec3 {
+        let p = match self.positions {
             Positions::F32(p) => p.get(i as usize).map_or(Vec3::ZERO, |r| vec3_at(r, 0)),
             Positions::Quantized(p) => p
                 .get(i as usize)
                 .map_or(Vec3::ZERO, |r| Vec3::new(u16_at(r, 0) as f32, u16_at(r, 2) as f32, u16_at(r, 4) as f32)),
+        };
+        match self.morph.filter(|_| MORPHS) {
+            Some(m) => p + m.sum(i, false),
+            None => p,
         }
+    }
+
+    /// Whether a pose's morph targets move these arrays' vertices.
+    #[inline(always)]
+    #[must_use]
+    pub(crate) fn is_morphed(&self) -> bool {
+        self.morph.is_some()
     }
 
     /// Vertex `i`'s stored position as integers within ±2^15, for
@@ -280,6 +318,7 @@ impl<'a> Arrays<'a> {
     #[inline]
     #[must_use]
     pub fn position_int(&self, i: u32, sphere: (Vec3, f32)) -> [i32; 3] {
+        // Morphed draws take the f32 transform (`Transforms::new`): no morph here.
         match self.positions {
             Positions::F32(p) => {
                 let v = p.get(i as usize).map_or(Vec3::ZERO, |r| vec3_at(r, 0));
@@ -309,6 +348,20 @@ impl<'a> Arrays<'a> {
     #[inline]
     #[must_use]
     pub fn normal_q(&self, i: u32) -> [i16; 3] {
+        self.normal_q_as::<true>(i)
+    }
+
+    /// [`Arrays::normal_q`], morphed only when `MORPHS` (see [`Arrays::position_as`]).
+    #[inline]
+    #[must_use]
+    pub(crate) fn normal_q_as<const MORPHS: bool>(&self, i: u32) -> [i16; 3] {
+        if let Some(m) = self.morph.filter(|_| MORPHS) {
+            return m.normal_q(self.normal(i));
+        }
+        self.stored_normal_q(i)
+    }
+
+    fn stored_normal_q(&self, i: u32) -> [i16; 3] {
         self.normals.get(i as usize).map_or([0; 3], |r| [i16_at(r, 0), i16_at(r, 2), i16_at(r, 4)])
     }
 
@@ -316,8 +369,19 @@ impl<'a> Arrays<'a> {
     #[inline]
     #[must_use]
     pub fn normal(&self, i: u32) -> Vec3 {
-        let q = self.normal_q(i);
-        Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32) / NORMAL_ONE
+        self.normal_as::<true>(i)
+    }
+
+    /// [`Arrays::normal`], morphed only when `MORPHS` (see [`Arrays::position_as`]).
+    #[inline]
+    #[must_use]
+    pub(crate) fn normal_as<const MORPHS: bool>(&self, i: u32) -> Vec3 {
+        let q = self.stored_normal_q(i);
+        let n = Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32) / NORMAL_ONE;
+        match self.morph.filter(|_| MORPHS) {
+            Some(m) => m.normal(n, i),
+            None => n,
+        }
     }
 
     /// See [`Mesh::uv_q`].

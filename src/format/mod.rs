@@ -6,22 +6,27 @@
 //!   the host converter writes with the same constants.
 //! - `model`: [`Model`], its validation and its per-file records.
 //! - `mesh`: [`Mesh`] and its vertex and index [`Arrays`].
+//! - `animation`: the animation section's validation and [`Animation`] views.
 //! - `texel`: [`TextureFormat`], [`Texture`] and the texel codecs.
 //! - `error`: [`ParseError`].
 //!
 //! It does not draw, light or sample anything (the pipeline does), and it does not write files
 //! (the host-only `convert` module does).
 
+mod animation;
 mod error;
 pub(crate) mod layout;
 mod mesh;
 mod model;
 mod texel;
 
+pub(crate) use animation::Morphing;
+pub use animation::{Animation, Group, Morph, Node, Track, TrackTarget};
 pub use error::{ParseError, Part};
 pub use layout::{LightKind, Wrap, MAGIC, NONE, NORMAL_ONE, QUANT_MAX, VERSION};
 pub(crate) use mesh::U16Triangles;
 pub use mesh::{Arrays, Mesh, SubMesh};
+pub(crate) use model::WorldAt;
 pub use model::{Light, Material, Model, SceneCamera};
 pub use texel::{decode_texel, encode_texel, Texture, TextureFormat};
 

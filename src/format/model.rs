@@ -4,6 +4,7 @@
 
 use core::ops::Range;
 
+use super::animation::Animation;
 use super::error::{ParseError, Part};
 use super::layout::*;
 use super::mesh::Mesh;
@@ -84,8 +85,11 @@ impl<'a> Model<'a> {
             return Err(ParseError::BadMagic);
         }
         let version = u16_at(data, header::VERSION.start);
-        if version != VERSION {
+        if !(MIN_VERSION..=VERSION).contains(&version) {
             return Err(ParseError::UnsupportedVersion(version));
+        }
+        if version >= 2 && data.len() < header::LEN_V2 {
+            return Err(ParseError::Truncated { expected: header::LEN_V2, actual: data.len() });
         }
         let file_len = u32_at(data, header::FILE_LEN.start) as usize;
         if file_len != data.len() {
@@ -94,6 +98,18 @@ impl<'a> Model<'a> {
         let model = Model { data };
         model.validate()?;
         Ok(model)
+    }
+
+    /// The animation section's offset (version 2 and not 0).
+    fn animation_at(&self) -> Option<u32> {
+        let v2 = u16_at(self.data, header::VERSION.start) >= 2;
+        Some(u32_at(self.data, header::ANIMATION.start)).filter(|&at| v2 && at != 0)
+    }
+
+    /// The model's animations (node tracks, morph targets), if it has some.
+    #[must_use]
+    pub fn animation(&self) -> Option<Animation<'a>> {
+        Animation::validate(self.data, self.animation_at()?, |m| self.mesh(m).map(|mesh| mesh.vertex_count())).ok()
     }
 
     fn count(&self, field: Range<usize>) -> u16 {
@@ -154,6 +170,9 @@ impl<'a> Model<'a> {
                 return Err(invalid(Part::Light, at + light::KIND));
             }
             check_finite(d, at + light::VECTOR.start..at + light::LEN, Part::Light)?;
+        }
+        if let Some(at) = self.animation_at() {
+            Animation::validate(d, at, |m| self.mesh(m).map(|mesh| mesh.vertex_count()))?;
         }
         let camera_at = u32_at(d, header::CAMERA.start);
         if camera_at != 0 {

@@ -23,6 +23,7 @@
 mod clip;
 mod fragment;
 mod line;
+mod posed;
 mod primitive;
 pub(crate) mod raster;
 mod scratch;
@@ -43,6 +44,7 @@ pub use stats::Stats;
 pub use clip::{clip_triangle, ClipResult, ClipVertex, GuardBand, Polygon};
 pub use varyings::{MAX_VARYINGS, VARYING_FRAC};
 
+use crate::animation::Pose;
 use crate::camera::Camera;
 use crate::format::{Material, Mesh, Model, SubMesh};
 use crate::light::{Lights, PixelLights, PreparedLights};
@@ -253,6 +255,30 @@ impl<'f, const L: usize> Renderer<'f, L> {
         }
     }
 
+    /// [`Renderer::draw`] with `model` in `pose` (see [`crate::animation`]): meshes that
+    /// follow animated nodes are placed by them, morph targets weigh as the pose says. A pose
+    /// that is not set, or a model without animation, draws the model at rest. Draw every band
+    /// of a frame with the same pose.
+    ///
+    /// # Errors
+    /// As [`Renderer::draw`].
+    pub fn draw_posed<C: FrameColor, D: DepthBuffer>(
+        &self,
+        band: &mut Band<'_, C, D>,
+        model: &Model<'_>,
+        pose: &Pose<'_>,
+        transform: Mat4,
+        scratch: &mut Scratch<'_>,
+    ) -> Result<Stats, DrawError> {
+        let Some(animation) = model.animation() else {
+            return self.draw(band, model, transform, scratch);
+        };
+        let posed = posed::Posed { pose, animation };
+        let frame =
+            FrameConstants { posed: Some(posed), digest: posed.digest(self.frame.digest), ..self.frame.clone() };
+        Renderer { frame }.draw(band, model, transform, scratch)
+    }
+
     /// [`DrawOrder::AsStored`]'s draw.
     #[inline(always)]
     fn draw_as_stored<C: FrameColor, D: DepthBuffer>(
@@ -304,6 +330,8 @@ pub(crate) struct FrameConstants<'l, const L: usize> {
     /// The digest of what a [`Scratch`]'s rows and vertices depend on that every draw with
     /// these constants shares (see [`Renderer::owner`]): made once, not once a band.
     digest: u64,
+    /// The pose every draw of [`Renderer::draw_posed`] draws with (`None`: the model at rest).
+    pub(crate) posed: Option<posed::Posed<'l>>,
 }
 
 impl<'l, const L: usize> FrameConstants<'l, L> {
@@ -325,6 +353,7 @@ impl<'l, const L: usize> FrameConstants<'l, L> {
                 || lights.lights.iter().any(|l| l.kind == crate::format::LightKind::Point),
             grey_light: is_grey(lights.ambient) && lights.lights.iter().all(|l| is_grey(l.diffuse)),
             opts,
+            posed: None,
         }
     }
 }
@@ -467,10 +496,14 @@ fn transform_and_draw<C: FrameColor, D: DepthBuffer, const L: usize>(
     let Some((world, flip)) = Transforms::placement(ctx, mesh, place, test_view) else {
         return Transformed::OutOfView;
     };
-    let transforms = Transforms::new(ctx, mesh, &world);
+    let morphing = ctx.frame.posed.as_ref().and_then(|p| p.morphing(mesh.mesh_index()));
+    let transforms = Transforms::new(ctx, mesh, &world, morphing.is_some());
     // The cache holds one set of texel coordinates, and nothing Phong needs.
     let scale = uniform_texel_scale(ctx, model, mesh).filter(|_| ctx.opts.shading != Shading::Phong);
     let mut setup = DrawSetup::new(*mesh, &transforms, flip);
+    if let Some(morphing) = &morphing {
+        setup.arrays = setup.arrays.morphed(morphing);
+    }
     let mut filled_unclipped = false;
     if let Some((cache, scale)) = cache.zip(scale) {
         filled_unclipped = vertex::fill_cache(ctx, (&setup, &transforms), cache, scale);
@@ -557,7 +590,7 @@ fn draw_all<C: FrameColor, D: DepthBuffer, const L: usize>(
         let (nt, nv) = (mesh.triangle_count() as usize, mesh.vertex_count() as usize);
         let unclipped = scratch.unclipped(d);
         let caches = scratch.for_draw(triangles..triangles.saturating_add(nt), vertices..vertices.saturating_add(nv));
-        let place = || *transform * model.world(world);
+        let place = || *transform * posed::draw_world(ctx.frame.posed.as_ref(), model, d, world);
         let filled_unclipped = draw_mesh_with(band, ctx, model, &mesh, place, (caches, unclipped), &mut stats);
         if let Some(flip) = filled_unclipped {
             scratch.set_unclipped(d, flip);

@@ -85,14 +85,15 @@ impl<const L: usize> Transforms<L> {
         projection: Projection { half: (1.0, 1.0), guard: GuardBand { gx: 1.0, gy: 1.0 } },
     };
 
-    /// The transforms of `mesh` placed by `world` (see [`Transforms::placement`]). Not inlined:
-    /// its matrix temporaries stay out of the caller's frame.
+    /// The transforms of `mesh` placed by `world` (see [`Transforms::placement`]); `morphed`
+    /// meshes always in f32 (their positions move beyond the integer transform's sphere). Not
+    /// inlined: its matrix temporaries stay out of the caller's frame.
     #[inline(never)]
-    pub(crate) fn new(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4) -> Self {
+    pub(crate) fn new(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4, morphed: bool) -> Self {
         let model_q = dequantized(world, mesh.dequantization());
         let normals = normal_matrix(world);
         let (mvp, sphere) = (ctx.frame.vp * model_q, mesh.bounding_sphere());
-        let fixed = ctx.opts.fixed_vertices.then_some(()).and_then(|()| {
+        let fixed = (ctx.opts.fixed_vertices && !morphed).then_some(()).and_then(|()| {
             let (offset, step) = mesh.arrays().int_position_frame(sphere);
             FixedTransform::new(&mvp, offset, step)
         });

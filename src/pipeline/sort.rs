@@ -2,6 +2,7 @@
 //! then drawn in that order (for boards without RAM for a depth buffer). It does not transform
 //! for drawing or rasterize (`primitive` and `raster` do, as for every order).
 
+use super::posed::draw_world;
 use super::primitive::{common_cache, draw_triangle, Surface};
 use super::{Context, DrawError, DrawSetup, Scratch, SortEntry, Stats, Transforms};
 use crate::format::Model;
@@ -25,7 +26,8 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
     }
     let vp = ctx.frame.vp;
     let mut n = 0;
-    for (d, (mesh, world)) in model.draws().enumerate() {
+    for (d, (mesh, world)) in model.placed_draws().enumerate() {
+        let world = draw_world(ctx.frame.posed.as_ref(), model, d, world);
         let mvp = vp * transform * world * mesh.dequantize();
         for t in 0..mesh.triangle_count() {
             let w = mesh.triangle(t).map(|i| (mvp * mesh.position_stored(i).extend(1.0)).w);
@@ -41,12 +43,22 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
     let mut stats = Stats::default();
     // One draw's run of triangles at a time, with that draw's transforms.
     for run in list.chunk_by(|a, b| a.draw == b.draw) {
-        let Some((mesh, world)) = run.first().and_then(|e| model.placed_draw(e.draw as usize)) else { continue };
-        let Some((placed, flip)) = Transforms::placement(ctx, &mesh, || transform * model.world(world), false) else {
+        let Some((d, (mesh, world))) =
+            run.first().and_then(|e| Some((e.draw as usize, model.placed_draw(e.draw as usize)?)))
+        else {
             continue;
         };
-        let transforms = Transforms::new(ctx, &mesh, &placed);
-        let setup = &DrawSetup::new(mesh, &transforms, flip);
+        let place = || transform * draw_world(ctx.frame.posed.as_ref(), model, d, world);
+        let Some((placed, flip)) = Transforms::placement(ctx, &mesh, place, false) else {
+            continue;
+        };
+        let morphing = ctx.frame.posed.as_ref().and_then(|p| p.morphing(mesh.mesh_index()));
+        let transforms = Transforms::new(ctx, &mesh, &placed, morphing.is_some());
+        let mut setup = DrawSetup::new(mesh, &transforms, flip);
+        if let Some(morphing) = &morphing {
+            setup.arrays = setup.arrays.morphed(morphing);
+        }
+        let setup = &setup;
         for e in run {
             stats.triangles_submitted = stats.triangles_submitted.saturating_add(1);
             let sub = setup

@@ -67,26 +67,39 @@ impl Projected {
 pub(crate) fn clip_position<const L: usize>(s: &DrawSetup<'_, L>, i: u32) -> Vec4 {
     match &s.transforms().clip {
         ClipTransform::Fixed(t, sphere) => t.apply(s.arrays.position_int(i, *sphere)),
-        ClipTransform::Float(mvp) => float_clip_position(s, mvp, i),
+        ClipTransform::Float(mvp) => float_clip_position::<L, true>(s, mvp, i),
     }
 }
 
-/// [`clip_position`] with the f32 transform `mvp`.
+/// [`clip_position`] with the f32 transform `mvp` (morphed when `M`: see
+/// [`Arrays::position_as`](crate::format::Arrays::position_as)).
 #[inline(always)]
-fn float_clip_position<const L: usize>(s: &DrawSetup<'_, L>, mvp: &Mat4, i: u32) -> Vec4 {
-    *mvp * s.arrays.position_stored(i).extend(1.0)
+fn float_clip_position<const L: usize, const M: bool>(s: &DrawSetup<'_, L>, mvp: &Mat4, i: u32) -> Vec4 {
+    *mvp * s.arrays.position_as::<M>(i).extend(1.0)
 }
 
 /// Vertex `i` in world space.
 pub(crate) fn world_position<const L: usize>(s: &DrawSetup<'_, L>, i: u32) -> Vec3 {
-    s.transforms().model_q.transform_point3(s.arrays.position_stored(i))
+    world_position_as::<L, true>(s, i)
+}
+
+/// [`world_position`], morphed when `M`.
+#[inline(always)]
+fn world_position_as<const L: usize, const M: bool>(s: &DrawSetup<'_, L>, i: u32) -> Vec3 {
+    s.transforms().model_q.transform_point3(s.arrays.position_as::<M>(i))
 }
 
 /// Vertex `i`'s world-space unit normal.
 #[inline(always)]
 pub(crate) fn world_normal<const L: usize>(s: &DrawSetup<'_, L>, i: u32) -> Vec3 {
+    world_normal_as::<L, true>(s, i)
+}
+
+/// [`world_normal`], morphed when `M`.
+#[inline(always)]
+fn world_normal_as<const L: usize, const M: bool>(s: &DrawSetup<'_, L>, i: u32) -> Vec3 {
     let t = s.transforms();
-    let n = t.normals * s.arrays.normal(i);
+    let n = t.normals * s.arrays.normal_as::<M>(i);
     if t.rotation {
         n
     } else {
@@ -104,15 +117,19 @@ pub(crate) fn vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'
         let [r, g, b] = lights.at(s.arrays.normal_q(i));
         return [r, g, b, 0];
     }
-    float_vertex_light(ctx, s, i)
+    float_vertex_light::<L, true>(ctx, s, i)
 }
 
 /// [`vertex_light`] of a Gouraud-lit vertex without the integer lights.
 #[inline(always)]
-fn float_vertex_light<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>, i: u32) -> VertexLight {
-    let n = world_normal(s, i);
+fn float_vertex_light<const L: usize, const M: bool>(
+    ctx: &Context<'_, L>,
+    s: &DrawSetup<'_, L>,
+    i: u32,
+) -> VertexLight {
+    let n = world_normal_as::<L, M>(s, i);
     // Directional and hemispheric light need no position.
-    let p = if ctx.frame.lit_by_position { world_position(s, i) } else { Vec3::ZERO };
+    let p = if ctx.frame.lit_by_position { world_position_as::<L, M>(s, i) } else { Vec3::ZERO };
     // Clamped by the quantization.
     let l = ctx.frame.vertex_lights.unclamped_at(p, n);
     quantize_light([l.x, l.y, l.z, specular(ctx, p, n)])
@@ -139,7 +156,9 @@ const WHITE: VertexLight = [u16::MAX, u16::MAX, u16::MAX, 0];
 pub(crate) fn projected<const L: usize>(ctx: &Context<'_, L>, s: &DrawSetup<'_, L>, i: u32) -> Projected {
     match &s.transforms().clip {
         ClipTransform::Fixed(t, sphere) => fixed_projected(ctx, s, (t, sphere), i),
-        ClipTransform::Float(mvp) => Projected::new(&s.transforms().projection, float_clip_position(s, mvp, i)),
+        ClipTransform::Float(mvp) => {
+            Projected::new(&s.transforms().projection, float_clip_position::<L, true>(s, mvp, i))
+        }
     }
 }
 
@@ -187,11 +206,38 @@ pub(crate) fn fill_cache<const L: usize>(
     // changes: read through `s`, they would be loaded again after every vertex's writes
     // (Cortex-M4F reference frame: +12k instructions).
     let s = &s.with_transforms(t);
+    // A still mesh's loops without the morph's test (see `Arrays::position_as`).
+    if s.arrays.is_morphed() {
+        fill_morphed(ctx, (s, t), cache, scale)
+    } else {
+        fill_all::<L, false>(ctx, (s, t), cache, scale)
+    }
+}
+
+/// [`fill_cache`] of a morphed mesh. Not inlined: a second copy of the loops.
+#[inline(never)]
+fn fill_morphed<const L: usize>(
+    ctx: &Context<'_, L>,
+    st: (&DrawSetup<'_, L>, &Transforms<L>),
+    cache: &mut [TransformedVertex],
+    scale: (f32, f32),
+) -> bool {
+    fill_all::<L, true>(ctx, st, cache, scale)
+}
+
+/// [`fill_cache`]'s loops for draw `s` with its transforms `t`, morphed when `M`.
+#[inline(always)]
+fn fill_all<const L: usize, const M: bool>(
+    ctx: &Context<'_, L>,
+    (s, t): (&DrawSetup<'_, L>, &Transforms<L>),
+    cache: &mut [TransformedVertex],
+    scale: (f32, f32),
+) -> bool {
     // One loop per case, its tests made once: the loops keep more of the matrices in registers.
     match &t.clip {
         ClipTransform::Fixed(fixed, sphere) => fill_fixed_positions(ctx, s, (fixed, sphere), cache, scale),
         ClipTransform::Float(mvp) => {
-            fill_positions(s, cache, scale, |i| Projected::new(&t.projection, float_clip_position(s, mvp, i)))
+            fill_positions(s, cache, scale, |i| Projected::new(&t.projection, float_clip_position::<L, M>(s, mvp, i)))
         }
     }
     match ctx.opts.shading {
@@ -199,10 +245,10 @@ pub(crate) fn fill_cache<const L: usize>(
         Shading::Gouraud => match &t.fixed_lights {
             // One light (the common case) with no loop over the lights at each vertex.
             Some(lights) => match lights.one() {
-                Some(one) => fill_fixed_light(s, cache, |n| one.at(n)),
-                None => fill_fixed_light(s, cache, |n| lights.at(n)),
+                Some(one) => fill_fixed_light::<L, M>(s, cache, |n| one.at(n)),
+                None => fill_fixed_light::<L, M>(s, cache, |n| lights.at(n)),
             },
-            None => fill_light(cache, |i| coloured_light(s, i, float_vertex_light(ctx, s, i))),
+            None => fill_light(cache, |i| coloured_light(s, i, float_vertex_light::<L, M>(ctx, s, i))),
         },
         Shading::Flat | Shading::Phong => fill_light(cache, |i| coloured_light(s, i, [0; 4])),
     }
@@ -254,13 +300,13 @@ fn fill_light(cache: &mut [TransformedVertex], light: impl Fn(u32) -> VertexLigh
 
 /// [`fill_light`] with Gouraud light in integers, `at` giving a stored normal's light.
 #[inline(always)]
-fn fill_fixed_light<const L: usize>(
+fn fill_fixed_light<const L: usize, const M: bool>(
     s: &DrawSetup<'_, L>,
     cache: &mut [TransformedVertex],
     at: impl Fn([i16; 3]) -> [u16; 3],
 ) {
     fill_light(cache, |i| {
-        let [r, g, b] = at(s.arrays.normal_q(i));
+        let [r, g, b] = at(s.arrays.normal_q_as::<M>(i));
         coloured_light(s, i, [r, g, b, 0])
     });
 }

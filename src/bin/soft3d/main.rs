@@ -5,9 +5,10 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use embedded_graphics_core::pixelcolor::{BinaryColor, Gray8, Rgb565, Rgb888};
+use soft3d::animation::{pose_memory, Pose};
 use soft3d::convert::{emit, EmitOptions, TextureChoice};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
-use soft3d::testing::math::Vec3;
+use soft3d::testing::math::{Mat4, Vec3};
 use soft3d::DepthBuffer;
 use soft3d::TextureFormat;
 use soft3d::{
@@ -230,6 +231,13 @@ struct RenderArgs {
     /// Exact perspective correction every N pixels, N at least 1 (1 = every pixel).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     subspan: u32,
+    /// Pose the scene's animations at this frame (every group at once, or --animation's), as
+    /// Babylon.js's `goToFrame` does; without it the scene is drawn as it stands.
+    #[arg(long, allow_hyphen_values = true)]
+    frame: Option<f32>,
+    /// The animation group to pose with --frame (by name; `soft3d info` lists them).
+    #[arg(long)]
+    animation: Option<String>,
     /// Also write a turntable animation to this GIF.
     #[arg(long)]
     gif: Option<PathBuf>,

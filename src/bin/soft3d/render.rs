@@ -147,6 +147,15 @@ pub(crate) fn draw_bands<C: FrameColor>(
     let mut rows = vec![soft3d::TriangleRows::default(); if sorted { 0 } else { triangles }];
     let mut cache = vec![soft3d::TransformedVertex::default(); if sorted { 0 } else { vertices }];
     let mut scratch = Scratch::none().with_sort(&mut sort).with_rows(&mut rows).with_vertices(&mut cache);
+    // The pose, once a thread: every band draws the same.
+    let animation = scene.0.animation().filter(|_| view.pose.is_some());
+    let (nodes, weights) = animation.map_or((0, 0), |a| pose_memory(a.node_count(), a.weight_count()));
+    let (mut node_memory, mut weight_memory) = (vec![Mat4::IDENTITY; nodes], vec![0.0f32; weights]);
+    let mut pose = Pose::new(&mut node_memory, &mut weight_memory);
+    if let (Some(a), Some((frame, group))) = (animation, view.pose) {
+        pose.evaluate(&a, frame, group).map_err(|e| format!("--frame: {e}"))?;
+    }
+    let scene = (scene.0, scene.1, &pose);
     let bg = C::from_rgb888(view.background);
     let mut stats = Stats::default();
     for b in bands {
@@ -167,14 +176,14 @@ pub(crate) fn draw_band<C: FrameColor, D: DepthBuffer>(
     (color, depth): (&mut [C], D),
     view: &View,
     first_row: u16,
-    (model, transform): (&Model<'_>, soft3d::testing::math::Mat4),
+    (model, transform, pose): (&Model<'_>, soft3d::testing::math::Mat4, &Pose<'_>),
     bg: C,
     scratch: &mut Scratch<'_>,
 ) -> Result<Stats> {
     let mut band = Band::new(color, depth, view.width, view.height, first_row).map_err(|e| e.to_string())?;
     band.clear(bg);
     soft3d::Renderer::new(&view.camera, &view.lights, view.opts)
-        .draw(&mut band, model, transform, scratch)
+        .draw_posed(&mut band, model, pose, transform, scratch)
         .map_err(|e| format!("draw: {e}"))
 }
 

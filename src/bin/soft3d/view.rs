@@ -13,6 +13,8 @@ pub(crate) struct View {
     pub(crate) bands: u16,
     /// Threads drawing the bands (at most one a band).
     pub(crate) threads: u16,
+    /// The animation frame to pose the model at, and the group (`--frame`, `--animation`).
+    pub(crate) pose: Option<(f32, Option<usize>)>,
 }
 
 /// How much of the frame's limiting dimension a fitted model fills (see `--fit`).
@@ -138,7 +140,32 @@ pub(crate) fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         None => threads.saturating_mul(4).min(height),
     };
     let background = parse_rgb(&args.background)?;
-    Ok(View { camera, lights, opts, background, width, height, bands, threads: threads.min(bands) })
+    let pose = animation_pose(args, model)?;
+    Ok(View { camera, lights, opts, background, width, height, bands, threads: threads.min(bands), pose })
+}
+
+/// `--frame` and `--animation`: the frame and the group (by name) to pose the model at.
+fn animation_pose(args: &RenderArgs, model: &Model<'_>) -> Result<Option<(f32, Option<usize>)>> {
+    let Some(frame) = args.frame else {
+        return match &args.animation {
+            Some(_) => Err("--animation: give the frame to pose at with --frame".into()),
+            None => Ok(None),
+        };
+    };
+    if !frame.is_finite() {
+        return Err(format!("--frame: must be a finite number, got {frame}"));
+    }
+    let group = match &args.animation {
+        None => None,
+        Some(name) => {
+            let animation = model.animation().ok_or("--animation: the scene has no animations")?;
+            let found = animation.group_named(name);
+            let names: Vec<&str> =
+                (0..animation.group_count()).filter_map(|g| animation.group(g)).map(|g| g.name()).collect();
+            Some(found.ok_or_else(|| format!("--animation: no group {name:?} (the scene has {})", names.join(", ")))?)
+        }
+    };
+    Ok(Some((frame, group)))
 }
 
 /// The drawing options the arguments ask for.

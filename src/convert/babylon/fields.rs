@@ -98,6 +98,29 @@ pub(super) fn scalar(obj: &Value, key: &str, default: f32) -> Res<f32> {
         .map_or(Ok(default), |v| finite(v).ok_or_else(|| format!("{key}: expected a finite number, found {}", show(v))))
 }
 
+/// An optional finite number.
+pub(super) fn number(obj: &Value, key: &str) -> Res<Option<f32>> {
+    get(obj, key)
+        .map(|v| finite(v).ok_or_else(|| format!("{key}: expected a finite number, found {}", show(v))))
+        .transpose()
+}
+
+/// The numbers an animation key's `values` starts with: a number alone, or the leading numbers
+/// of an array (Babylon.js packs tangents and the interpolation after the value), each finite.
+pub(super) fn leading_floats(obj: &Value, key: &str) -> Res<Vec<f32>> {
+    let bad = |what: String, v: &Value| format!("{what}: expected a finite number, found {}", show(v));
+    match get(obj, key) {
+        None => Ok(Vec::new()),
+        Some(Value::Array(a)) => a
+            .iter()
+            .take_while(|x| x.is_number())
+            .enumerate()
+            .map(|(i, x)| finite(x).ok_or_else(|| bad(format!("{key}[{i}]"), x)))
+            .collect(),
+        Some(v) => finite(v).map(|x| std::vec![x]).ok_or_else(|| bad(key.to_owned(), v)),
+    }
+}
+
 pub(super) fn count(obj: &Value, key: &str, default: Option<u64>) -> Res<u64> {
     match get(obj, key) {
         None => default.ok_or_else(|| format!("{key}: missing")),

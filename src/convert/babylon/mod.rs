@@ -15,6 +15,12 @@
 //!   frame of its animations, as Babylon.js does when it starts playing them: the
 //!   `position`/`rotation`/`scaling`/`rotationQuaternion` keys at `autoAnimateFrom` (linear
 //!   between keys) replace the static values.
+//! - **Animations** are read into `Scene::animation` by `animation` (its module documentation
+//!   has the rules): tracks of meshes' and transform nodes' position, rotation and scaling
+//!   (whole or one component) and of morph target influences, the groups that play them
+//!   (`animationGroups`, then one for each node's or morph target's own tracks), the nodes
+//!   they move with the meshes those carry, and the meshes' morph targets. A missing
+//!   `framePerSecond` is 30; keys out of frame order are sorted, with a warning.
 //! - **Instances** inherit the source mesh's position/rotation/scaling when they omit one (as
 //!   Babylon's `createInstance` does); their parent is their own `parentId` when the key is
 //!   present (even `null`), else the mesh's parent.
@@ -37,11 +43,13 @@
 //! This module owns the reader's public face ([`read_babylon`], [`read_babylon_file`],
 //! [`ConvertOptions`], [`UvOrigin`], [`Warning`], [`ConvertError`]) and the reader's state; the
 //! work is split by concern into `fields` (JSON field access), `transform` (matrices, rotations,
-//! animation), `node` (hierarchy), `geometry` (where vertex data lives), `mesh` (meshes,
-//! sub-meshes, instances), `material`, `texture`, `light`, `camera` and `unsupported` (a warning
-//! for each feature the file has and soft3d does not draw). Writing the result as
+//! first frames), `node` (hierarchy), `geometry` (where vertex data lives), `mesh` (meshes,
+//! sub-meshes, instances), `animation` (tracks, groups, animated nodes, morph targets),
+//! `material`, `texture`, `light`, `camera` and `unsupported` (a warning for each feature the
+//! file has and soft3d does not draw or play). Writing the result as
 //! `.s3d` is not its job (that is `convert::emit`).
 
+mod animation;
 mod camera;
 mod fields;
 mod geometry;
@@ -170,6 +178,7 @@ pub fn read_babylon(
         .map_err(|e| ConvertError::Json { file: file_name.to_owned(), message: e.to_string() })?;
     let mut reader = Reader::new(&root, base_dir, file_name, opts)?;
     reader.read_meshes()?;
+    reader.read_animation()?;
     reader.read_lights()?;
     reader.read_camera()?;
     reader.warn_unsupported();

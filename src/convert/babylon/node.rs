@@ -10,7 +10,8 @@
 //! moves them to its position.
 //!
 //! How a local matrix is built from a node's fields is `transform`'s job; what is drawn from a
-//! mesh node is `mesh`'s.
+//! mesh node is `mesh`'s; which nodes move, and how, `animation`'s (which learns from `world`
+//! which mesh of the scene each mesh node became).
 
 use std::format;
 use std::string::String;
@@ -24,17 +25,22 @@ use super::transform::{mul, Trs};
 use super::{ConvertError, Reader};
 use crate::convert::scene::{Matrix, IDENTITY};
 
-/// A mesh or transform node, possibly a parent of others.
+/// A mesh, transform node, camera or light, possibly a parent of others.
 pub(super) struct Node<'v> {
     pub(super) obj: &'v Value,
     pub(super) what: String,
-    /// As written (what instances inherit).
+    /// As written (what instances inherit, and an animated node's rest).
     pub(super) trs: Trs,
     /// After `autoAnimate`.
-    local: Matrix,
+    pub(super) local: Matrix,
     pub(super) parent: Option<usize>,
     world: Option<Matrix>,
     pub(super) is_mesh: bool,
+    /// A mesh or transform node: what animation tracks may move (cameras and lights are not).
+    pub(super) movable: bool,
+    /// The index in `Scene::meshes` of the mesh drawn from this node, as [`Reader::world`]
+    /// recorded it (read it through [`Reader::drawn_mesh`]).
+    drawn: Option<usize>,
 }
 
 impl<'a> Reader<'a> {
@@ -58,7 +64,8 @@ impl<'a> Reader<'a> {
                     }
                 }
                 let local = animated.matrix();
-                self.add_node(Node { obj, what: cx.what, trs, local, parent: None, world: None, is_mesh })?;
+                let (parent, world, movable, drawn) = (None, None, true, None);
+                self.add_node(Node { obj, what: cx.what, trs, local, parent, world, is_mesh, movable, drawn })?;
             }
         }
         // Cameras and lights, as parents of others (they are read as such by `camera` and
@@ -68,8 +75,8 @@ impl<'a> Reader<'a> {
                 let cx = self.ctx(label(obj, kind, array, i));
                 let local =
                     if kind == "camera" { camera_matrix(obj) } else { light_matrix(obj) }.map_err(|m| cx.err(m))?;
-                let trs = Trs::IDENTITY;
-                self.add_node(Node { obj, what: cx.what, trs, local, parent: None, world: None, is_mesh: false })?;
+                let (trs, parent, world, is_mesh, movable, drawn) = (Trs::IDENTITY, None, None, false, false, None);
+                self.add_node(Node { obj, what: cx.what, trs, local, parent, world, is_mesh, movable, drawn })?;
             }
         }
         for i in 0..self.nodes.len() {
@@ -109,8 +116,47 @@ impl<'a> Reader<'a> {
         Ok(found)
     }
 
-    /// The world matrix of node `i` (walking up iteratively, so deep hierarchies are fine).
+    /// The world matrix of node `i`.
+    ///
+    /// `mesh` asks for a mesh's world matrix here just before it appends the mesh to
+    /// `Scene::meshes`, so the first call for a mesh node records the index the mesh gets there
+    /// (see [`Reader::drawn_mesh`]); parents and instances go through
+    /// [`Reader::parent_world`], which records nothing.
     pub(super) fn world(&mut self, i: usize) -> Result<Matrix, ConvertError> {
+        let world = self.world_of(i)?;
+        let next = self.scene.meshes.len();
+        if self.nodes[i].is_mesh {
+            self.nodes[i].drawn.get_or_insert(next);
+        }
+        Ok(world)
+    }
+
+    /// The index in `Scene::meshes` of the mesh drawn from node `i`, if one was: the index
+    /// [`Reader::world`] recorded, checked against the mesh there (same world matrix).
+    pub(super) fn drawn_mesh(&self, i: usize) -> Option<usize> {
+        let node = self.nodes.get(i)?;
+        node.drawn.filter(|&m| self.scene.meshes.get(m).is_some_and(|mesh| node.world == Some(mesh.world)))
+    }
+
+    /// The ancestors of node `i`, nearest first; a `parentId` cycle is an error.
+    pub(super) fn ancestors(&self, i: usize) -> Result<Vec<usize>, ConvertError> {
+        let mut chain: Vec<usize> = Vec::new();
+        let mut at = self.nodes.get(i).and_then(|n| n.parent);
+        while let Some(p) = at {
+            if chain.len() >= self.nodes.len() {
+                let names: Vec<&str> = chain.iter().take(8).map(|&n| self.nodes[n].what.as_str()).collect();
+                return Err(self
+                    .ctx(self.nodes[i].what.clone())
+                    .err(format!("parentId cycle through {}", names.join(" -> "))));
+            }
+            chain.push(p);
+            at = self.nodes.get(p).and_then(|n| n.parent);
+        }
+        Ok(chain)
+    }
+
+    /// The world matrix of node `i` (walking up iteratively, so deep hierarchies are fine).
+    fn world_of(&mut self, i: usize) -> Result<Matrix, ConvertError> {
         let mut chain = vec![i];
         let mut base = IDENTITY;
         while let Some(&top) = chain.last() {
@@ -137,8 +183,9 @@ impl<'a> Reader<'a> {
         Ok(base)
     }
 
+    /// The world matrix of node `parent` (the identity for none), recording nothing.
     pub(super) fn parent_world(&mut self, parent: Option<usize>) -> Result<Matrix, ConvertError> {
-        parent.map_or(Ok(IDENTITY), |p| self.world(p))
+        parent.map_or(Ok(IDENTITY), |p| self.world_of(p))
     }
 }
 

@@ -1,7 +1,8 @@
 //! Node transforms in Babylon.js conventions: row-vector matrices (`p' = p · M`, translation in
 //! `m[12..15]`), Babylon's Euler (`RotationYawPitchRoll`) and quaternion rotations, a node's
 //! position/rotation/scaling ([`Trs`], `Local = S · R · T`) and the first frame of its
-//! `autoAnimate` animations.
+//! `autoAnimate` animations (what the still picture shows; the tracks themselves are read by
+//! `animation`).
 //!
 //! The hierarchy (parents, world matrices) lives in `node`; texture matrices in `material`.
 
@@ -11,8 +12,8 @@ use std::vec::Vec;
 
 use serde_json::Value;
 
-use super::fields::{flag, floats, list, scalar, text, vector, Res};
-use crate::convert::scene::Matrix;
+use super::fields::{flag, leading_floats, list, scalar, text, vector, Res};
+use crate::convert::scene::{Matrix, Rotation};
 
 pub(super) fn mul(a: &Matrix, b: &Matrix) -> Matrix {
     core::array::from_fn(|i| (0..4).map(|k| a[i / 4 * 4 + k] * b[k * 4 + i % 4]).sum())
@@ -68,6 +69,12 @@ impl Trs {
         })
     }
 
+    /// Position, rotation (the quaternion when there is one, else the Euler angles) and scaling.
+    pub(super) fn rest(&self) -> ([f32; 3], Rotation, [f32; 3]) {
+        let rotation = self.quaternion.map_or(Rotation::Euler(self.rotation), Rotation::Quaternion);
+        (self.position, rotation, self.scaling)
+    }
+
     pub(super) fn rotation_matrix(&self) -> Matrix {
         self.quaternion.map_or_else(|| euler_matrix(self.rotation), quat_matrix)
     }
@@ -118,13 +125,14 @@ impl Trs {
     }
 }
 
-/// An animation's value at `frame`: linear between the surrounding keys, clamped at the ends.
+/// An animation's value at `frame`: linear between the surrounding keys, clamped at the ends
+/// (the numbers each key's `values` starts with: tangents packed after them are ignored).
 fn key_value(anim: &Value, frame: f32) -> Res<Option<Vec<f32>>> {
     let mut prev: Option<(f32, Vec<f32>)> = None;
     for (i, key) in list(anim, "keys")?.iter().enumerate() {
         let in_key = |m: String| format!("keys[{i}].{m}");
         let f = scalar(key, "frame", 0.).map_err(in_key)?;
-        let v = floats(key, "values").map_err(in_key)?.unwrap_or_default();
+        let v = leading_floats(key, "values").map_err(in_key)?;
         if f >= frame {
             return Ok(Some(match prev {
                 Some((pf, pv)) if f > pf && pv.len() == v.len() => {

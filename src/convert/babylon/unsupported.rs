@@ -1,11 +1,12 @@
-//! What a scene has that soft3d does not draw yet: one warning a feature, naming how many
-//! objects use it and the first few of them, so that nothing is dropped without a word.
+//! What a scene has that soft3d does not draw or play yet: one warning a feature, naming how
+//! many objects use it and the first few of them, so that nothing is dropped without a word.
 //!
 //! A key counts when its value is not the default: not absent, `null`, `false`, zero or
-//! negative (exporters write `-1` for "no skeleton"), empty, or all zeros (a black colour).
-//! Features soft3d does draw (or approximates, such as `autoAnimate`'s first frame) are read
-//! by the other modules; those it skips with a reason of their own (spot lights, hidden
-//! meshes) are warned about there.
+//! negative, empty, or all zeros (a black colour); a `skeletonId` counts from 0 (exporters
+//! write `-1` for "no skeleton"). Features soft3d does draw or play (node animations, morph
+//! targets) are read by the other modules; those it skips with a reason of their own (spot
+//! lights, hidden meshes, animated properties and data types it does not play) are warned
+//! about there.
 
 use std::format;
 use std::string::String;
@@ -16,12 +17,21 @@ use serde_json::Value;
 use super::fields::{get, label};
 use super::Reader;
 
-/// A feature soft3d does not draw: the keys that carry it (in the scene object, `""`, or in
-/// each object of an array) and what a viewer sees instead.
+/// A feature soft3d does not draw (or play): the keys that carry it (in the scene object,
+/// `""`, or in each object of an array) and what a viewer sees instead.
 struct Feature {
     name: &'static str,
+    /// What soft3d does not do with it: "drawn" or "played".
+    verb: &'static str,
     keys: &'static [(&'static str, &'static str)],
     instead: &'static str,
+}
+
+impl Feature {
+    /// A feature soft3d does not draw.
+    const fn drawn(name: &'static str, keys: &'static [(&'static str, &'static str)], instead: &'static str) -> Self {
+        Feature { name, verb: "drawn", keys, instead }
+    }
 }
 
 const MATERIAL_MAPS: &[(&str, &str)] = &[
@@ -41,77 +51,51 @@ const MATERIAL_MAPS: &[(&str, &str)] = &[
 const FEATURES: &[Feature] = &[
     Feature {
         name: "skeletons",
+        verb: "played",
         keys: &[("", "skeletons"), ("meshes", "skeletonId")],
         instead: "skinned meshes are drawn in their bind pose",
     },
     Feature {
-        name: "morph targets",
-        keys: &[("", "morphTargetManagers"), ("meshes", "morphTargetManagerId")],
-        instead: "meshes are drawn in their base shape",
+        name: "animations of the scene, cameras, lights and materials",
+        verb: "played",
+        keys: &[("", "animations"), ("cameras", "animations"), ("lights", "animations"), ("materials", "animations")],
+        instead: "what they animate stays as the file sets it",
     },
-    Feature {
-        name: "animations",
-        keys: &[
-            ("", "animations"),
-            ("meshes", "animations"),
-            ("transformNodes", "animations"),
-            ("cameras", "animations"),
-            ("lights", "animations"),
-            ("materials", "animations"),
-        ],
-        instead: "not played: autoAnimate nodes are drawn at their first frame, the rest as they stand",
-    },
-    Feature {
-        name: "material maps other than the diffuse texture",
-        keys: MATERIAL_MAPS,
-        instead: "surfaces are drawn with their diffuse colour or texture alone",
-    },
-    Feature {
-        name: "emissive material colours",
-        keys: &[("materials", "emissive"), ("materials", "emissiveColor")],
-        instead: "surfaces are lit by the scene's lights alone",
-    },
+    Feature::drawn(
+        "material maps other than the diffuse texture",
+        MATERIAL_MAPS,
+        "surfaces are drawn with their diffuse colour or texture alone",
+    ),
+    Feature::drawn(
+        "emissive material colours",
+        &[("materials", "emissive"), ("materials", "emissiveColor")],
+        "surfaces are lit by the scene's lights alone",
+    ),
     // A material's `ambient` colour is multiplied by this: black (the default) leaves it
     // without effect.
-    Feature {
-        name: "ambient light",
-        keys: &[("", "ambientColor")],
-        instead: "surfaces are lit by the scene's lights alone",
-    },
-    Feature { name: "billboards", keys: &[("meshes", "billboardMode")], instead: "drawn facing their own way" },
-    Feature {
-        name: "levels of detail",
-        keys: &[("meshes", "lodMeshIds")],
-        instead: "the full mesh is drawn at every distance",
-    },
-    Feature { name: "second texture coordinates", keys: &[("meshes", "uvs2")], instead: "unused" },
-    Feature {
-        name: "per-mesh light lists",
-        keys: &[("lights", "excludedMeshesIds"), ("lights", "includedOnlyMeshesIds")],
-        instead: "every light lights every mesh",
-    },
-    Feature { name: "shadows", keys: &[("", "shadowGenerators")], instead: "no shadows are cast" },
-    Feature { name: "fog", keys: &[("", "fogMode")], instead: "no fog" },
-    Feature { name: "particle systems", keys: &[("", "particleSystems")], instead: "not drawn" },
-    Feature { name: "sprites", keys: &[("", "spriteManagers")], instead: "not drawn" },
-    Feature { name: "lens flares", keys: &[("", "lensFlareSystems")], instead: "not drawn" },
-    Feature {
-        name: "post-processes and effect layers",
-        keys: &[("", "postProcesses"), ("", "effectLayers")],
-        instead: "not applied",
-    },
-    Feature {
-        name: "environment and reflection probes",
-        keys: &[("", "environmentTexture"), ("", "reflectionProbes")],
-        instead: "no reflections",
-    },
-    Feature {
-        name: "physics",
-        keys: &[("", "physicsEnabled"), ("meshes", "physicsImpostor")],
-        instead: "nothing moves",
-    },
-    Feature { name: "actions", keys: &[("", "actions"), ("meshes", "actions")], instead: "not run" },
-    Feature { name: "sounds", keys: &[("", "sounds")], instead: "not played" },
+    Feature::drawn("ambient light", &[("", "ambientColor")], "surfaces are lit by the scene's lights alone"),
+    Feature::drawn("billboards", &[("meshes", "billboardMode")], "drawn facing their own way"),
+    Feature::drawn("levels of detail", &[("meshes", "lodMeshIds")], "the full mesh is drawn at every distance"),
+    Feature::drawn("second texture coordinates", &[("meshes", "uvs2")], "unused"),
+    Feature::drawn(
+        "per-mesh light lists",
+        &[("lights", "excludedMeshesIds"), ("lights", "includedOnlyMeshesIds")],
+        "every light lights every mesh",
+    ),
+    Feature::drawn("shadows", &[("", "shadowGenerators")], "no shadows are cast"),
+    Feature::drawn("fog", &[("", "fogMode")], "no fog"),
+    Feature::drawn("particle systems", &[("", "particleSystems")], "not drawn"),
+    Feature::drawn("sprites", &[("", "spriteManagers")], "not drawn"),
+    Feature::drawn("lens flares", &[("", "lensFlareSystems")], "not drawn"),
+    Feature::drawn("post-processes and effect layers", &[("", "postProcesses"), ("", "effectLayers")], "not applied"),
+    Feature::drawn(
+        "environment and reflection probes",
+        &[("", "environmentTexture"), ("", "reflectionProbes")],
+        "no reflections",
+    ),
+    Feature::drawn("physics", &[("", "physicsEnabled"), ("meshes", "physicsImpostor")], "nothing moves"),
+    Feature::drawn("actions", &[("", "actions"), ("meshes", "actions")], "not run"),
+    Feature::drawn("sounds", &[("", "sounds")], "not played"),
 ];
 
 /// How many of the first users of a feature a warning names.
@@ -131,7 +115,7 @@ impl Reader<'_> {
                 }
                 let objects = get(self.root, array).and_then(Value::as_array).map_or(&[][..], Vec::as_slice);
                 for (i, obj) in objects.iter().enumerate() {
-                    if get(obj, key).is_some_and(set) {
+                    if get(obj, key).is_some_and(|v| if key == "skeletonId" { skeleton(v) } else { set(v) }) {
                         users.push(format!("{}'s {key}", label(obj, kind(array), array, i)));
                     }
                 }
@@ -144,7 +128,8 @@ impl Reader<'_> {
             if more > 0 {
                 named += &format!(" and {more} more");
             }
-            self.warn(format!("{} are not drawn by soft3d yet ({named}): {}", feature.name, feature.instead));
+            let (name, verb, instead) = (feature.name, feature.verb, feature.instead);
+            self.warn(format!("{name} are not {verb} by soft3d yet ({named}): {instead}"));
         }
     }
 }
@@ -158,6 +143,11 @@ fn kind(array: &str) -> &'static str {
         "lights" => "light",
         _ => "material",
     }
+}
+
+/// Whether a `skeletonId` names a skeleton (0 is the first; exporters write -1 for none).
+fn skeleton(v: &Value) -> bool {
+    v.as_f64().is_some_and(|x| x >= 0.0) || v.as_str().is_some_and(|s| !s.is_empty())
 }
 
 /// Whether `v` is set to something other than a default (see the module documentation).

@@ -1,0 +1,209 @@
+//! Poses: where a model's animated nodes are and how much each morph target weighs at a
+//! frame, evaluated without allocation into memory the caller owns ([`Pose`]), for
+//! [`Renderer::draw_posed`](crate::Renderer::draw_posed) to draw every band of a frame with.
+//!
+//! What a frame means is Babylon.js's: a group's frame `F` between its `from` and `to` sets
+//! every track of the group to its value at `F` (clamped to the track's keys, as
+//! `AnimationGroup.goToFrame` does); past `to` a looping group starts again at `from`, another
+//! stays at `to`. Without a group, every group of the model is set to `F` at once (what the
+//! `../shared/animation` truths do). Values between keys are interpolated as in `keys`.
+//! A node's matrix is Babylon's `Local = S · R · T` from its position, rotation (Euler
+//! `RotationYawPitchRoll(y, x, z)`, or a quaternion as written) and scaling; its world is
+//! `Local · above · World(parent)`, and a mesh linked to it is drawn at `below · World(node)`
+//! (see `convert::scene::AnimationData`).
+
+mod keys;
+
+pub use crate::format::{Animation, Group, Morph, Node, Track, TrackTarget};
+
+use crate::math::{Mat3, Mat4, Vec3, Vec4};
+
+/// Why a pose could not be evaluated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PoseError {
+    /// The pose's memory is too small for the model: it needs `nodes` matrices and `weights`
+    /// morph weights ([`Pose::new`]).
+    TooSmall {
+        /// Matrices needed (one an animated node).
+        nodes: usize,
+        /// Weights needed (one a morph target).
+        weights: usize,
+    },
+    /// There is no group with that index.
+    NoSuchGroup(usize),
+}
+
+impl core::fmt::Display for PoseError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            PoseError::TooSmall { nodes, weights } => {
+                write!(f, "pose memory too small: the model needs {nodes} node matrices and {weights} morph weights")
+            }
+            PoseError::NoSuchGroup(g) => write!(f, "the model has no animation group {g}"),
+        }
+    }
+}
+
+/// The matrices (one a node) and weights (one a morph target) a [`Pose`] of a model with
+/// `nodes` animated nodes and `weights` morph targets needs: what `convert::build_script_convert`
+/// writes as constants for a converted scene.
+#[must_use]
+pub const fn pose_memory(nodes: usize, weights: usize) -> (usize, usize) {
+    (nodes, weights)
+}
+
+/// A model's pose at one frame: the world matrix of each animated node and the weight of each
+/// morph target, in memory the caller owns. Every band of a frame draws the same pose.
+#[derive(Debug)]
+pub struct Pose<'s> {
+    nodes: &'s mut [Mat4],
+    weights: &'s mut [f32],
+    /// How many of each the last evaluation set (0: the pose is not set, a draw uses rest).
+    set: (usize, usize),
+}
+
+impl<'s> Pose<'s> {
+    /// A pose kept in `nodes` and `weights` (sizes: [`pose_memory`]); not set until
+    /// [`Pose::evaluate`].
+    #[must_use]
+    pub fn new(nodes: &'s mut [Mat4], weights: &'s mut [f32]) -> Self {
+        Pose { nodes, weights, set: (0, 0) }
+    }
+
+    /// Sets the pose of `animation` at `frame` of group `group` (every group when `None`; see
+    /// the module documentation). Tracks of other groups stay at rest.
+    ///
+    /// # Errors
+    /// [`PoseError::TooSmall`] when the memory cannot hold the model's nodes and weights,
+    /// [`PoseError::NoSuchGroup`] for a group past the last (the pose is then not set).
+    pub fn evaluate(&mut self, animation: &Animation<'_>, frame: f32, group: Option<usize>) -> Result<(), PoseError> {
+        let (n, w) = (animation.node_count(), animation.weight_count());
+        self.set = (0, 0);
+        if self.nodes.len() < n || self.weights.len() < w {
+            return Err(PoseError::TooSmall { nodes: n, weights: w });
+        }
+        if let Some(g) = group.filter(|&g| g >= animation.group_count()) {
+            return Err(PoseError::NoSuchGroup(g));
+        }
+        self.rest(animation);
+        let groups = group.map_or(0..animation.group_count(), |g| g..g + 1);
+        for g in groups.filter_map(|g| animation.group(g)) {
+            let at = group_frame(&g, frame);
+            for t in g.tracks().filter_map(|t| animation.track(t)) {
+                self.apply(&t, keys::value_at(&t, at, matches!(t.target(), TrackTarget::Quaternion(_))));
+            }
+        }
+        self.compose(animation);
+        self.set = (n, w);
+        Ok(())
+    }
+
+    /// Every node at rest (its position, rotation and scaling kept in its matrix's columns
+    /// until [`Pose::compose`]) and every weight at its default.
+    fn rest(&mut self, animation: &Animation<'_>) {
+        for (slot, node) in self.nodes.iter_mut().zip((0..animation.node_count()).filter_map(|i| animation.node(i))) {
+            let (rotation, quaternion) = node.rotation();
+            let flag = if quaternion { 1.0 } else { 0.0 };
+            *slot =
+                Mat4::from_cols(node.position().extend(0.0), rotation, node.scaling().extend(0.0), Vec4::splat(flag));
+        }
+        for m in (0..animation.morph_count()).filter_map(|i| animation.morph_at(i)) {
+            for (t, w) in m.weights().enumerate() {
+                if let Some(slot) = self.weights.get_mut(w) {
+                    *slot = m.default_influence(t);
+                }
+            }
+        }
+    }
+
+    /// Sets what `track` moves to `value`.
+    fn apply(&mut self, track: &Track<'_>, value: Vec4) {
+        let (column, node) = match track.target() {
+            TrackTarget::Influence(w) => {
+                if let Some(slot) = self.weights.get_mut(w as usize) {
+                    *slot = value.x;
+                }
+                return;
+            }
+            TrackTarget::Position(n) => (0, n),
+            TrackTarget::Rotation(n) | TrackTarget::Quaternion(n) => (1, n),
+            TrackTarget::Scaling(n) => (2, n),
+        };
+        let Some(slot) = self.nodes.get_mut(node as usize) else { return };
+        let first = track.first_component();
+        let col = slot.col_mut(column);
+        for c in 0..track.component_count() {
+            col[first + c] = value[c];
+        }
+        if let TrackTarget::Quaternion(_) = track.target() {
+            slot.w_axis = Vec4::splat(1.0);
+        }
+    }
+
+    /// Each node's matrix from its position, rotation and scaling, then its world matrix (a
+    /// node comes after its parent).
+    fn compose(&mut self, animation: &Animation<'_>) {
+        for i in 0..animation.node_count() {
+            let Some(node) = animation.node(i) else { continue };
+            let parent = node.parent().and_then(|p| self.nodes.get(p).copied()).unwrap_or(Mat4::IDENTITY);
+            if let Some(slot) = self.nodes.get_mut(i) {
+                *slot = parent * node.above() * local_matrix(slot);
+            }
+        }
+    }
+
+    /// The world matrix of animated node `node`, when the pose is set.
+    #[must_use]
+    pub fn node_world(&self, node: usize) -> Option<Mat4> {
+        (node < self.set.0).then(|| self.nodes.get(node).copied()).flatten()
+    }
+
+    /// The morph weights, when the pose is set (empty otherwise).
+    #[must_use]
+    pub fn weights(&self) -> &[f32] {
+        self.weights.get(..self.set.1).unwrap_or(&[])
+    }
+}
+
+/// `frame` within `group`'s range: wrapped when it loops, else clamped.
+fn group_frame(group: &Group<'_>, frame: f32) -> f32 {
+    let (from, to) = group.range();
+    let length = to - from;
+    if frame > to && group.loops() && length > 0.0 {
+        from + crate::math::fmod(frame - from, length)
+    } else {
+        frame.clamp(from, to.max(from))
+    }
+}
+
+/// `Local = S · R · T` (Babylon, row vectors) as a glam matrix, from a node's columns as
+/// [`Pose::rest`] keeps them.
+fn local_matrix(trs: &Mat4) -> Mat4 {
+    let rotation =
+        if trs.w_axis.x != 0.0 { quaternion_matrix(trs.y_axis) } else { euler_matrix(trs.y_axis.truncate()) };
+    let s = trs.z_axis;
+    Mat4::from_cols(
+        (rotation.x_axis * s.x).extend(0.0),
+        (rotation.y_axis * s.y).extend(0.0),
+        (rotation.z_axis * s.z).extend(0.0),
+        trs.x_axis.truncate().extend(1.0),
+    )
+}
+
+/// Babylon's `RotationYawPitchRoll(y, x, z)` (row vectors: `Rz · Rx · Ry`) as a glam matrix.
+fn euler_matrix(angles: Vec3) -> Mat3 {
+    Mat3::from_rotation_y(angles.y) * Mat3::from_rotation_x(angles.x) * Mat3::from_rotation_z(angles.z)
+}
+
+/// Babylon's `Matrix.FromQuaternion` (the quaternion as written, not normalised) as a glam
+/// matrix.
+fn quaternion_matrix(q: Vec4) -> Mat3 {
+    let (x, y, z, w) = (q.x, q.y, q.z, q.w);
+    let (xx, yy, zz) = (x * x, y * y, z * z);
+    let (xy, xz, yz, xw, yw, zw) = (x * y, x * z, y * z, x * w, y * w, z * w);
+    Mat3::from_cols(
+        Vec3::new(1.0 - 2.0 * (yy + zz), 2.0 * (xy + zw), 2.0 * (xz - yw)),
+        Vec3::new(2.0 * (xy - zw), 1.0 - 2.0 * (zz + xx), 2.0 * (yz + xw)),
+        Vec3::new(2.0 * (xz + yw), 2.0 * (yz - xw), 1.0 - 2.0 * (yy + xx)),
+    )
+}

@@ -1,0 +1,905 @@
+//! Animations: the tracks of meshes, transform nodes and morph target influences, the groups
+//! that play them, the nodes they move with the meshes those nodes carry, and the meshes'
+//! morph targets, read into [`AnimationData`] (the still picture, `MeshData::world`, keeps the
+//! first frame of `autoAnimate` nodes that `transform` bakes).
+//!
+//! The rules, after Babylon.js's `Animation.Parse`, `AnimationGroup.Parse` and
+//! `MorphTarget.Parse`, and the choices made where those are silent:
+//!
+//! - **Properties**: `position`, `rotation`, `scaling`, `rotationQuaternion` and their single
+//!   components (`position.x`, `rotationQuaternion.w`) of meshes and transform nodes, and the
+//!   `influence` of morph targets. Any other property (`_matrix`, `visibility`, a material's)
+//!   and a `dataType` that does not match the property (0 float for a component or an
+//!   influence, 1 vector3, 2 quaternion; a missing `dataType` is taken as the property's) are
+//!   skipped with a warning naming the node and the animation.
+//! - **Tracks**: `framePerSecond` defaults to 30 (Babylon.js has no default: its `Animation`
+//!   takes the value as given), a track with a rate that is not positive is skipped with a
+//!   warning; `loopBehavior` 0, 1 (the default), 2, any other value is played as 1 with a
+//!   warning. A track without keys is skipped with a warning; keys out of frame order are
+//!   sorted by frame (stably) with a warning.
+//! - **Keys**: `frame` and `values` are required (a wrong type is an error naming the key).
+//!   `values` holds the value's numbers (a float's may be a number alone) and may go on in
+//!   Babylon.js's packed layout: for floats and vectors an in-tangent, an out-tangent (each
+//!   `null`, a number or an array) and the interpolation; for quaternions 4 + 4 numbers of
+//!   tangents (all zero: none) and the interpolation. `inTangent`, `outTangent` and
+//!   `interpolation` keys, when present, win over the packed ones. `interpolation: 1` is a
+//!   step. A key with one tangent only gets a zero for the other, with a warning when that
+//!   one would be used (Babylon.js interpolates linearly there).
+//! - **Groups**: `animationGroups[].targetedAnimations[]` name their target by `targetId`: an
+//!   `influence` track a morph target (by `id`, then `name`), any other a mesh or transform
+//!   node (by `id`, then `name`); unknown targets, cameras, lights and skeleton bones are
+//!   skipped with a warning. A group without `from`/`to` spans its tracks' keys, and loops
+//!   when `loopAnimation` is true (Babylon.js's default: false). Then each node or morph
+//!   target with tracks of its own (its `animations`) gets a group of them named after it:
+//!   with `autoAnimate`, from `autoAnimateFrom` (default 0) to `autoAnimateTo` (default: the
+//!   last key), looping unless `autoAnimateLoop` is false; without, over its keys, looping.
+//! - **Nodes and links**: every mesh or transform node with a track becomes a `NodeData`, after
+//!   its nearest animated ancestor; each drawn mesh on a chain with an animated node is linked
+//!   to the nearest one. Instances of moving meshes are drawn still (one warning).
+//! - **Morph targets**: a drawn mesh's `morphTargetManagerId` (a number or string; negative
+//!   for none) names a manager by its `id`; each target's `positions` and `normals` (absolute
+//!   in the file) become differences from the mesh's own (the file's base normals, else the
+//!   reader's computed ones); a target without `positions` moves no vertex. A target whose
+//!   length is not the mesh's vertex count drops the manager for that mesh, with a warning.
+//!   A manager shared by several meshes gives each mesh its `MorphData` and each influence
+//!   track one track per mesh.
+
+use std::format;
+use std::string::String;
+use std::vec;
+use std::vec::Vec;
+
+use serde_json::Value;
+
+use super::fields::{count, finite, flag, floats, get, label, list, number, scalar, show, text, Ctx, Res};
+use super::transform::mul;
+use super::{ConvertError, Reader};
+use crate::convert::scene::{
+    AnimationData, GroupData, KeyData, Loop, MeshLink, MorphData, MorphTargetData, NodeData, NodeProperty, TrackData,
+    TrackTarget, IDENTITY,
+};
+
+/// Frames a second of a track without `framePerSecond`.
+const DEFAULT_FPS: f32 = 30.0;
+
+/// What a track moves, before the animated nodes and the morphed meshes are numbered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Target {
+    /// Components of a property of a node (an index into `Reader::nodes`).
+    Node { node: usize, property: NodeProperty, first: u8, count: u8 },
+    /// The influence of a morph target: indices into the managers and their targets.
+    Morph { manager: usize, target: usize },
+}
+
+/// What an animation's `property` sets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Property {
+    /// Components `first..first + count` of a node property.
+    Node { property: NodeProperty, first: u8, count: u8 },
+    /// A morph target's influence.
+    Influence,
+}
+
+impl Property {
+    /// How many numbers a key holds.
+    fn count(self) -> usize {
+        match self {
+            Property::Node { count, .. } => usize::from(count),
+            Property::Influence => 1,
+        }
+    }
+
+    /// The Babylon.js `dataType` of such a track: 0 float, 1 vector3, 2 quaternion.
+    fn data_type(self) -> u64 {
+        match self.count() {
+            3 => 1,
+            4 => 2,
+            _ => 0,
+        }
+    }
+}
+
+/// A track's timing and keys.
+#[derive(Clone, Debug, PartialEq)]
+struct Curve {
+    fps: f32,
+    looping: Loop,
+    keys: Vec<KeyData>,
+}
+
+/// A track as read, with its target not yet numbered.
+struct Track {
+    target: Target,
+    curve: Curve,
+}
+
+/// A group as read: indices into the read tracks; `None` ends span the tracks' keys.
+struct Group {
+    name: String,
+    from: Option<f32>,
+    to: Option<f32>,
+    looping: bool,
+    tracks: Vec<usize>,
+}
+
+/// The tracks and groups read so far.
+#[derive(Default)]
+struct Read {
+    tracks: Vec<Track>,
+    groups: Vec<Group>,
+}
+
+/// A morph target manager (`morphTargetManagers[]`).
+struct Manager<'v> {
+    id: Option<String>,
+    what: String,
+    targets: Vec<MorphTarget<'v>>,
+}
+
+/// One target of a manager, as written (positions and normals absolute).
+struct MorphTarget<'v> {
+    obj: &'v Value,
+    name: String,
+    id: Option<String>,
+    influence: f32,
+    positions: Option<Vec<f32>>,
+    normals: Option<Vec<f32>>,
+}
+
+/// An animation read: its property and curve, or why soft3d skips it.
+type Parsed = Result<(Property, Curve), String>;
+
+/// A key as read: its tangents not yet paired.
+struct RawKey {
+    frame: f32,
+    values: Vec<f32>,
+    tangents: [Option<Vec<f32>>; 2],
+    step: bool,
+}
+
+impl<'a> Reader<'a> {
+    /// Fills `Scene::animation`; runs after `read_meshes` (it links the meshes drawn).
+    pub(super) fn read_animation(&mut self) -> Result<(), ConvertError> {
+        let managers = self.morph_managers()?;
+        let mut read = Read::default();
+        self.read_groups(&managers, &mut read)?;
+        self.read_node_tracks(&mut read)?;
+        self.read_morph_tracks(&managers, &mut read)?;
+        let order = self.animated_nodes(&read.tracks)?;
+        let mut index = vec![None; self.nodes.len()];
+        for (k, &n) in order.iter().enumerate() {
+            index[n] = Some(self.small(k, "animated nodes")?);
+        }
+        let nodes = self.node_data(&order, &index)?;
+        let links = self.links(&index)?;
+        let (morphs, used) = self.morphs(&managers)?;
+        let (tracks, groups) = self.number(read, &index, &used, &managers)?;
+        self.warn_instances(&links, &morphs);
+        self.scene.animation = AnimationData { nodes, links, morphs, tracks, groups };
+        Ok(())
+    }
+
+    /// `n` as a `u16` index, or an error naming what there are too many of.
+    fn small(&self, n: usize, what: &str) -> Result<u16, ConvertError> {
+        u16::try_from(n).map_err(|_| self.ctx("scene").err(format!("more than 65536 {what}")))
+    }
+
+    /// Reads `morphTargetManagers` (a field of the wrong type is an error).
+    fn morph_managers(&mut self) -> Result<Vec<Manager<'a>>, ConvertError> {
+        let root = self.root;
+        let all = list(root, "morphTargetManagers").map_err(|m| self.ctx("scene").err(m))?;
+        let mut managers = Vec::with_capacity(all.len());
+        for (i, obj) in all.iter().enumerate() {
+            let cx = self.ctx(format!("morphTargetManagers[{i}]"));
+            if !obj.is_object() {
+                return Err(cx.err(format!("expected an object, found {}", show(obj))));
+            }
+            let id = text(obj, "id").map_err(|m| cx.err(m))?;
+            let what = id.as_ref().map_or(cx.what.clone(), |id| format!("morph target manager {id:?}"));
+            let cx = self.ctx(what.clone());
+            let targets = list(obj, "targets").map_err(|m| cx.err(m))?;
+            let targets: Vec<MorphTarget> = targets
+                .iter()
+                .enumerate()
+                .map(|(k, t)| morph_target(t, k))
+                .collect::<Res<_>>()
+                .map_err(|m| cx.err(m))?;
+            for t in targets.iter().filter(|t| get(t.obj, "uvs").is_some() || get(t.obj, "tangents").is_some()) {
+                self.warn(format!("{what}: target {:?}: uvs and tangents of morph targets are not played", t.name));
+            }
+            managers.push(Manager { id, what, targets });
+        }
+        Ok(managers)
+    }
+
+    /// Reads one animation object (`at` is where it lies in `cx`'s object, for errors; `here`
+    /// names it in warnings): its property and curve, `None` (warned) when soft3d skips it.
+    fn animation(
+        &mut self,
+        anim: &Value,
+        here: &str,
+        at: &str,
+        cx: &Ctx,
+    ) -> Result<Option<(Property, Curve)>, ConvertError> {
+        if !anim.is_object() {
+            return Err(cx.err(format!("{at}: expected an object, found {}", show(anim))));
+        }
+        let mut notes = Vec::new();
+        let parsed = parse_animation(anim, &mut notes).map_err(|m| cx.err(format!("{at}.{m}")))?;
+        for note in notes {
+            self.warn(format!("{here}: {note}"));
+        }
+        match parsed {
+            Ok(p) => Ok(Some(p)),
+            Err(reason) => {
+                self.warn(format!("{here}: {reason}, skipped"));
+                Ok(None)
+            }
+        }
+    }
+
+    /// Reads `animationGroups`.
+    fn read_groups(&mut self, managers: &[Manager<'a>], read: &mut Read) -> Result<(), ConvertError> {
+        let root = self.root;
+        for (g, group) in list(root, "animationGroups").map_err(|m| self.ctx("scene").err(m))?.iter().enumerate() {
+            let cx = self.ctx(label(group, "animation group", "animationGroups", g));
+            if !group.is_object() {
+                return Err(cx.err(format!("expected an object, found {}", show(group))));
+            }
+            let e = |m: String| cx.err(m);
+            let mut tracks = Vec::new();
+            for (k, targeted) in list(group, "targetedAnimations").map_err(e)?.iter().enumerate() {
+                if let Some(track) = self.targeted(managers, targeted, k, &cx, read)? {
+                    tracks.push(track);
+                }
+            }
+            let name = text(group, "name").map_err(e)?.unwrap_or_else(|| format!("animationGroups[{g}]"));
+            let (from, to) = (number(group, "from").map_err(e)?, number(group, "to").map_err(e)?);
+            let looping = flag(group, "loopAnimation", false).map_err(e)?;
+            if !tracks.is_empty() {
+                read.groups.push(Group { name, from, to, looping, tracks });
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads `targetedAnimations[k]` of a group into `read`: the index of its track, `None`
+    /// (warned) when skipped.
+    fn targeted(
+        &mut self,
+        managers: &[Manager<'a>],
+        targeted: &Value,
+        k: usize,
+        cx: &Ctx,
+        read: &mut Read,
+    ) -> Result<Option<usize>, ConvertError> {
+        let at = format!("targetedAnimations[{k}]");
+        let id = text(targeted, "targetId").map_err(|m| cx.err(format!("{at}.{m}")))?;
+        let (Some(id), Some(anim)) = (id, get(targeted, "animation")) else {
+            self.warn(format!("{}: {at}: no targetId or no animation, skipped", cx.what));
+            return Ok(None);
+        };
+        let here = format!("{}: {at} (target {id:?})", cx.what);
+        let Some((property, curve)) = self.animation(anim, &here, &format!("{at}.animation"), cx)? else {
+            return Ok(None);
+        };
+        let target = match property {
+            Property::Influence => find_morph_target(managers, &id)
+                .map(|(manager, target)| Target::Morph { manager, target })
+                .ok_or_else(|| "no morph target has this id or name".into()),
+            Property::Node { property, first, count } => {
+                self.find_node(&id).map(|node| Target::Node { node, property, first, count })
+            }
+        };
+        match target {
+            Ok(target) => {
+                read.tracks.push(Track { target, curve });
+                Ok(Some(read.tracks.len() - 1))
+            }
+            Err(reason) => {
+                self.warn(format!("{here}: {reason}, skipped"));
+                Ok(None)
+            }
+        }
+    }
+
+    /// The mesh or transform node with `id` (by `id`, then `name`), or why there is none
+    /// (cameras, lights and skeleton bones are not played).
+    fn find_node(&self, id: &str) -> Result<usize, String> {
+        match self.ids.get(id).or_else(|| self.names.get(id)).copied() {
+            Some(node) if self.nodes[node].movable => Ok(node),
+            Some(node) => Err(format!("{}: animations of cameras and lights are not played", self.nodes[node].what)),
+            None if self.is_bone(id) => Err("a skeleton bone: skeletons are not played yet".into()),
+            None => Err("no mesh or transform node has this id or name".into()),
+        }
+    }
+
+    /// Whether a skeleton bone has `id` as its `id` or `name`.
+    fn is_bone(&self, id: &str) -> bool {
+        let skeletons = list(self.root, "skeletons").unwrap_or_default();
+        let bones = skeletons.iter().flat_map(|s| list(s, "bones").unwrap_or_default());
+        bones.into_iter().any(|b| ["id", "name"].iter().any(|k| text(b, k).ok().flatten().as_deref() == Some(id)))
+    }
+
+    /// Reads the `animations` of meshes and transform nodes, each node's in a group of its own.
+    fn read_node_tracks(&mut self, read: &mut Read) -> Result<(), ConvertError> {
+        for n in 0..self.nodes.len() {
+            if !self.nodes[n].movable {
+                continue;
+            }
+            let (obj, what) = (self.nodes[n].obj, self.nodes[n].what.clone());
+            let cx = self.ctx(what.clone());
+            let mut own = Vec::new();
+            for (k, anim) in list(obj, "animations").map_err(|m| cx.err(m))?.iter().enumerate() {
+                let at = format!("animations[{k}]");
+                let here = named(&what, &at, anim);
+                let Some((property, curve)) = self.animation(anim, &here, &at, &cx)? else {
+                    continue;
+                };
+                let Property::Node { property, first, count } = property else {
+                    self.warn(format!("{here}: influence is a morph target's property, skipped"));
+                    continue;
+                };
+                read.tracks.push(Track { target: Target::Node { node: n, property, first, count }, curve });
+                own.push(read.tracks.len() - 1);
+            }
+            if !own.is_empty() {
+                read.groups.push(own_group(obj, node_name(obj), own).map_err(|m| cx.err(m))?);
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads the `animations` of morph targets, each target's in a group of its own.
+    fn read_morph_tracks(&mut self, managers: &[Manager<'a>], read: &mut Read) -> Result<(), ConvertError> {
+        for (m, manager) in managers.iter().enumerate() {
+            let cx = self.ctx(manager.what.clone());
+            for (t, target) in manager.targets.iter().enumerate() {
+                let in_target = |e: String| cx.err(format!("targets[{t}].{e}"));
+                let mut own = Vec::new();
+                for (k, anim) in list(target.obj, "animations").map_err(in_target)?.iter().enumerate() {
+                    let at = format!("targets[{t}].animations[{k}]");
+                    let here = named(&manager.what, &at, anim);
+                    let Some((property, curve)) = self.animation(anim, &here, &at, &cx)? else {
+                        continue;
+                    };
+                    if property != Property::Influence {
+                        self.warn(format!("{here}: a morph target has only an influence to animate, skipped"));
+                        continue;
+                    }
+                    read.tracks.push(Track { target: Target::Morph { manager: m, target: t }, curve });
+                    own.push(read.tracks.len() - 1);
+                }
+                if !own.is_empty() {
+                    read.groups.push(own_group(target.obj, target.name.clone(), own).map_err(in_target)?);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The nodes that tracks move, each after its nearest animated ancestor.
+    fn animated_nodes(&self, tracks: &[Track]) -> Result<Vec<usize>, ConvertError> {
+        let mut animated = vec![false; self.nodes.len()];
+        for track in tracks {
+            if let Target::Node { node, .. } = track.target {
+                animated[node] = true;
+            }
+        }
+        let mut order = Vec::new();
+        for n in (0..self.nodes.len()).filter(|&n| animated[n]) {
+            let depth = self.ancestors(n)?.iter().filter(|&&a| animated[a]).count();
+            order.push((depth, n));
+        }
+        order.sort_unstable();
+        Ok(order.into_iter().map(|(_, n)| n).collect())
+    }
+
+    /// The animated nodes (`order`; `index` maps a reader node to its place there).
+    fn node_data(&mut self, order: &[usize], index: &[Option<u16>]) -> Result<Vec<NodeData>, ConvertError> {
+        let mut nodes = Vec::with_capacity(order.len());
+        for &n in order {
+            let chain = self.ancestors(n)?;
+            let (parent, above) = match chain.iter().position(|&a| index[a].is_some()) {
+                Some(k) => (index[chain[k]], self.still_product(&chain[..k])),
+                None => {
+                    let parent = self.nodes[n].parent;
+                    (None, self.parent_world(parent)?)
+                }
+            };
+            let (position, rotation, scaling) = self.nodes[n].trs.rest();
+            nodes.push(NodeData { name: node_name(self.nodes[n].obj), parent, above, position, rotation, scaling });
+        }
+        Ok(nodes)
+    }
+
+    /// The product of the local matrices of `chain`, nearest the node first.
+    fn still_product(&self, chain: &[usize]) -> [f32; 16] {
+        chain.iter().fold(IDENTITY, |m, &a| mul(&m, &self.nodes[a].local))
+    }
+
+    /// The links of the drawn meshes that have an animated node on their chain.
+    fn links(&self, index: &[Option<u16>]) -> Result<Vec<MeshLink>, ConvertError> {
+        let mut links = Vec::new();
+        if index.iter().all(Option::is_none) {
+            return Ok(links);
+        }
+        for n in 0..self.nodes.len() {
+            let Some(mesh) = self.drawn_mesh(n) else {
+                continue;
+            };
+            let chain: Vec<usize> = core::iter::once(n).chain(self.ancestors(n)?).collect();
+            if let Some(k) = chain.iter().position(|&a| index[a].is_some()) {
+                let (mesh, node) = (self.small(mesh, "meshes")?, index[chain[k]].unwrap_or_default());
+                links.push(MeshLink { mesh, node, below: self.still_product(&chain[..k]) });
+            }
+        }
+        Ok(links)
+    }
+
+    /// The morph targets of the drawn meshes, and for each manager the `MorphData` made of it.
+    fn morphs(&mut self, managers: &[Manager<'a>]) -> Result<(Vec<MorphData>, Vec<Vec<u16>>), ConvertError> {
+        let (mut morphs, mut used) = (Vec::new(), vec![Vec::new(); managers.len()]);
+        for n in 0..self.nodes.len() {
+            let Some(mesh) = self.drawn_mesh(n) else {
+                continue;
+            };
+            let (obj, what) = (self.nodes[n].obj, self.nodes[n].what.clone());
+            let cx = self.ctx(what.clone());
+            let Some(id) = text(obj, "morphTargetManagerId").map_err(|m| cx.err(m))? else {
+                continue;
+            };
+            if get(obj, "morphTargetManagerId").and_then(Value::as_f64).is_some_and(|x| x < 0.0) {
+                continue;
+            }
+            let Some(m) = managers.iter().position(|g| g.id.as_deref() == Some(&*id)) else {
+                self.warn(format!("{what}: morph target manager {id:?} not found, drawn in its base shape"));
+                continue;
+            };
+            let Some(targets) = self.morph_deltas(n, mesh, &managers[m])? else {
+                continue;
+            };
+            used[m].push(self.small(morphs.len(), "morphed meshes")?);
+            morphs.push(MorphData { mesh: self.small(mesh, "meshes")?, targets });
+        }
+        Ok((morphs, used))
+    }
+
+    /// The targets of `manager` as differences from scene mesh `mesh` (drawn from node
+    /// `node`); `None`, with a warning, when a target's length is not the mesh's.
+    fn morph_deltas(
+        &mut self,
+        node: usize,
+        mesh: usize,
+        manager: &Manager<'a>,
+    ) -> Result<Option<Vec<MorphTargetData>>, ConvertError> {
+        let cx = self.ctx(self.nodes[node].what.clone());
+        let Some(base) = self.scene.meshes.get(mesh) else {
+            return Ok(None);
+        };
+        let n = base.positions.len();
+        let mut normals = base.normals.clone();
+        if manager.targets.iter().any(|t| t.normals.is_some()) {
+            let file = self.geometry(self.nodes[node].obj, &cx)?.normals;
+            if let Some(file) = file.filter(|f| f.len() == 3 * n) {
+                normals = file.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+            }
+        }
+        let deltas = manager.targets.iter().map(|t| target_deltas(t, &base.positions, &normals)).collect();
+        match deltas {
+            Ok(targets) => Ok(Some(targets)),
+            Err(problem) => {
+                self.warn(format!("{}: {}: {problem}: drawn without its morph targets", cx.what, manager.what));
+                Ok(None)
+            }
+        }
+    }
+
+    /// Numbers the read tracks and groups: node tracks by `index`, morph tracks one per mesh
+    /// that uses their manager (`used`).
+    fn number(
+        &mut self,
+        read: Read,
+        index: &[Option<u16>],
+        used: &[Vec<u16>],
+        managers: &[Manager<'a>],
+    ) -> Result<(Vec<TrackData>, Vec<GroupData>), ConvertError> {
+        let ranges: Vec<(f32, f32)> = read.tracks.iter().map(|t| key_range(&t.curve.keys)).collect();
+        let (mut tracks, mut numbered) = (Vec::new(), Vec::with_capacity(read.tracks.len()));
+        let mut unused = vec![false; managers.len()];
+        for Track { target, curve } in read.tracks {
+            let targets: Vec<TrackTarget> = match target {
+                Target::Node { node, property, first, count } => {
+                    index[node].map(|node| TrackTarget::Node { node, property, first, count }).into_iter().collect()
+                }
+                Target::Morph { manager, target } => {
+                    let target = self.small(target, "morph targets in a manager")?;
+                    unused[manager] |= used[manager].is_empty();
+                    used[manager].iter().map(|&morph| TrackTarget::Morph { morph, target }).collect()
+                }
+            };
+            let mut ids = Vec::with_capacity(targets.len());
+            for target in targets {
+                ids.push(self.small(tracks.len(), "animation tracks")?);
+                tracks.push(TrackData { target, fps: curve.fps, looping: curve.looping, keys: curve.keys.clone() });
+            }
+            numbered.push(ids);
+        }
+        for (manager, _) in managers.iter().zip(&unused).filter(|(_, u)| **u) {
+            self.warn(format!("{}: no drawn mesh uses it: its animations are skipped", manager.what));
+        }
+        let groups = read.groups.into_iter().filter_map(|g| number_group(g, &numbered, &ranges)).collect();
+        Ok((tracks, groups))
+    }
+
+    /// Warns once when a moving mesh has instances (they are drawn still).
+    fn warn_instances(&mut self, links: &[MeshLink], morphs: &[MorphData]) {
+        let moving = |mesh: u16| links.iter().any(|l| l.mesh == mesh) || morphs.iter().any(|m| m.mesh == mesh);
+        let first = self.scene.instances.iter().find(|i| moving(i.mesh));
+        let name = first.and_then(|i| self.scene.meshes.get(usize::from(i.mesh))).map(|m| m.name.clone());
+        if let Some(name) = name {
+            self.warn(format!("mesh {name:?}: instances of animated meshes are drawn still"));
+        }
+    }
+}
+
+/// `what: at` with the animation's `name` when it has one, for warnings.
+fn named(what: &str, at: &str, anim: &Value) -> String {
+    match text(anim, "name").ok().flatten() {
+        Some(name) => format!("{what}: {at} ({name:?})"),
+        None => format!("{what}: {at}"),
+    }
+}
+
+/// A node's `name`, else its `id`.
+fn node_name(obj: &Value) -> String {
+    text(obj, "name").ok().flatten().or_else(|| text(obj, "id").ok().flatten()).unwrap_or_default()
+}
+
+/// `targets[k]` of a manager.
+fn morph_target(obj: &Value, k: usize) -> Res<MorphTarget<'_>> {
+    let at = |m: String| format!("targets[{k}].{m}");
+    if !obj.is_object() {
+        return Err(format!("targets[{k}]: expected an object, found {}", show(obj)));
+    }
+    let id = text(obj, "id").map_err(at)?;
+    let name = text(obj, "name").map_err(at)?.or_else(|| id.clone()).unwrap_or_else(|| format!("targets[{k}]"));
+    Ok(MorphTarget {
+        obj,
+        name,
+        id,
+        influence: scalar(obj, "influence", 0.).map_err(at)?,
+        positions: floats(obj, "positions").map_err(at)?,
+        normals: floats(obj, "normals").map_err(at)?,
+    })
+}
+
+/// The manager and target with `id` (by `id` first, then by `name`).
+fn find_morph_target(managers: &[Manager], id: &str) -> Option<(usize, usize)> {
+    let find = |by_name: bool| {
+        managers.iter().enumerate().find_map(|(m, manager)| {
+            let hit = |t: &MorphTarget| if by_name { t.name == id } else { t.id.as_deref() == Some(id) };
+            manager.targets.iter().position(hit).map(|t| (m, t))
+        })
+    };
+    find(false).or_else(|| find(true))
+}
+
+/// A target's positions and normals minus the mesh's, or why they do not fit.
+fn target_deltas(t: &MorphTarget, positions: &[[f32; 3]], normals: &[[f32; 3]]) -> Result<MorphTargetData, String> {
+    let n = positions.len();
+    let minus = |key: &str, given: &[f32], base: &[[f32; 3]]| {
+        if given.len() != 3 * n || base.len() != n {
+            let needed = 3 * n;
+            return Err(format!(
+                "target {:?}: {key} has {} numbers but {n} vertices need {needed}",
+                t.name,
+                given.len()
+            ));
+        }
+        Ok(given.chunks_exact(3).zip(base).map(|(g, b)| [g[0] - b[0], g[1] - b[1], g[2] - b[2]]).collect::<Vec<_>>())
+    };
+    let positions = match &t.positions {
+        Some(p) => minus("positions", p, positions)?,
+        None => vec![[0.; 3]; n],
+    };
+    let normals = t.normals.as_deref().map(|g| minus("normals", g, normals)).transpose()?;
+    Ok(MorphTargetData { name: t.name.clone(), influence: t.influence, positions, normals })
+}
+
+/// The group of a node's or morph target's own tracks (see the module documentation).
+fn own_group(obj: &Value, name: String, tracks: Vec<usize>) -> Res<Group> {
+    if !flag(obj, "autoAnimate", false)? {
+        return Ok(Group { name, from: None, to: None, looping: true, tracks });
+    }
+    let from = Some(scalar(obj, "autoAnimateFrom", 0.)?);
+    Ok(Group { name, from, to: number(obj, "autoAnimateTo")?, looping: flag(obj, "autoAnimateLoop", true)?, tracks })
+}
+
+/// A group with its tracks numbered (`numbered[r]`: the tracks made of read track `r`), its
+/// missing ends the range of its tracks' keys; `None` when no track is left.
+fn number_group(group: Group, numbered: &[Vec<u16>], ranges: &[(f32, f32)]) -> Option<GroupData> {
+    let tracks: Vec<u16> = group.tracks.iter().flat_map(|&r| numbered.get(r).into_iter().flatten().copied()).collect();
+    if tracks.is_empty() {
+        return None;
+    }
+    let spans = group.tracks.iter().filter_map(|&r| ranges.get(r));
+    let (first, last) = spans.fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &(f, l)| (a.min(f), b.max(l)));
+    let from = group.from.unwrap_or(first);
+    let to = group.to.unwrap_or(last);
+    Some(GroupData { name: group.name, from, to, looping: group.looping, tracks })
+}
+
+/// The first and last frames of keys (in frame order, at least one).
+fn key_range(keys: &[KeyData]) -> (f32, f32) {
+    (keys.first().map_or(0., |k| k.frame), keys.last().map_or(0., |k| k.frame))
+}
+
+/// What an animation's `property` sets; `None` for what soft3d does not play.
+fn property(name: &str) -> Option<Property> {
+    if name == "influence" {
+        return Some(Property::Influence);
+    }
+    let (base, component) = name.split_once('.').map_or((name, None), |(b, c)| (b, Some(c)));
+    let (property, size) = match base {
+        "position" => (NodeProperty::Position, 3),
+        "rotation" => (NodeProperty::Rotation, 3),
+        "scaling" => (NodeProperty::Scaling, 3),
+        "rotationQuaternion" => (NodeProperty::RotationQuaternion, 4),
+        _ => return None,
+    };
+    match component {
+        None => Some(Property::Node { property, first: 0, count: size }),
+        Some(c) => {
+            let first = ["x", "y", "z", "w"].iter().position(|&n| n == c).filter(|&k| k < usize::from(size))?;
+            Some(Property::Node { property, first: first as u8, count: 1 })
+        }
+    }
+}
+
+/// The name of a Babylon.js `dataType`, for messages.
+fn type_name(data_type: u64) -> &'static str {
+    match data_type {
+        0 => "float",
+        1 => "vector3",
+        2 => "quaternion",
+        3 => "matrix",
+        4 => "color3",
+        5 => "vector2",
+        6 => "size",
+        7 => "color4",
+        _ => "unknown",
+    }
+}
+
+/// Reads an animation object: `Err` for a field of the wrong type (the message starts with the
+/// field), `Ok(Err(reason))` when soft3d skips it, and `notes` for what it changes.
+fn parse_animation(anim: &Value, notes: &mut Vec<String>) -> Res<Parsed> {
+    let Some(name) = text(anim, "property")? else {
+        return Ok(Err("no property".into()));
+    };
+    let Some(property) = property(&name) else {
+        return Ok(Err(format!("property {name:?} is not played by soft3d")));
+    };
+    let data_type = count(anim, "dataType", Some(property.data_type()))?;
+    if data_type != property.data_type() {
+        let kind = type_name(data_type);
+        return Ok(Err(format!("dataType {data_type} ({kind}) for property {name:?} is not played by soft3d")));
+    }
+    let fps = scalar(anim, "framePerSecond", DEFAULT_FPS)?;
+    if fps <= 0.0 {
+        return Ok(Err(format!("framePerSecond {fps} is not positive")));
+    }
+    let looping = match count(anim, "loopBehavior", Some(1))? {
+        0 => Loop::Relative,
+        1 => Loop::Cycle,
+        2 => Loop::Constant,
+        n => {
+            notes.push(format!("loopBehavior {n} is played as 1 (cycle)"));
+            Loop::Cycle
+        }
+    };
+    let quaternion = matches!(property, Property::Node { count: 4, .. });
+    let keys = keys(anim, property.count(), quaternion, notes)?;
+    if keys.is_empty() {
+        return Ok(Err("no keys".into()));
+    }
+    Ok(Ok((property, Curve { fps, looping, keys })))
+}
+
+/// The keys of an animation, by frame, their tangents paired (see the module documentation).
+fn keys(anim: &Value, count: usize, quaternion: bool, notes: &mut Vec<String>) -> Res<Vec<KeyData>> {
+    let raw = list(anim, "keys")?.iter().enumerate().map(|(i, key)| {
+        if !key.is_object() {
+            return Err(format!("keys[{i}]: expected an object, found {}", show(key)));
+        }
+        raw_key(key, count, quaternion).map_err(|m| format!("keys[{i}].{m}"))
+    });
+    let mut raw = raw.collect::<Res<Vec<RawKey>>>()?;
+    if raw.windows(2).any(|w| w[1].frame < w[0].frame) {
+        raw.sort_by(|a, b| a.frame.total_cmp(&b.frame));
+        notes.push("keys are not in frame order: sorted by frame".into());
+    }
+    let last = raw.len().saturating_sub(1);
+    let mut lone = None;
+    let keys = raw.into_iter().enumerate().map(|(i, key)| {
+        let [tin, tout] = key.tangents;
+        let tangents = match (tin, tout) {
+            (Some(a), Some(b)) => Some((a, b)),
+            (None, None) => None,
+            (a, b) => {
+                // The in-tangent is used when a key ends a span, the out-tangent when it starts one.
+                if (a.is_none() && i > 0) || (b.is_none() && i < last) {
+                    lone.get_or_insert(key.frame);
+                }
+                Some((a.unwrap_or_else(|| vec![0.; count]), b.unwrap_or_else(|| vec![0.; count])))
+            }
+        };
+        KeyData { frame: key.frame, values: key.values, tangents, step: key.step }
+    });
+    let keys = keys.collect();
+    if let Some(frame) = lone {
+        notes.push(format!("the key at frame {frame} has one tangent only: the other is taken as 0"));
+    }
+    Ok(keys)
+}
+
+/// One key (see the module documentation); messages start with the field.
+fn raw_key(key: &Value, count: usize, quaternion: bool) -> Res<RawKey> {
+    let frame = number(key, "frame")?.ok_or_else(|| String::from("frame: missing"))?;
+    let items = match get(key, "values") {
+        Some(Value::Array(a)) => a.as_slice(),
+        Some(v) if count == 1 && v.is_number() => core::slice::from_ref(v),
+        Some(v) => return Err(format!("values: expected an array, found {}", show(v))),
+        None => return Err("values: missing".into()),
+    };
+    if items.len() < count {
+        return Err(format!("values: expected {count} numbers, found {}", items.len()));
+    }
+    let (value, rest) = items.split_at(count);
+    let values = numbers(value, 0)?;
+    let [mut tin, mut tout, mut interpolation] =
+        if quaternion { packed_quaternion(rest)? } else { packed(rest, count)? };
+    for (slot, name) in [(&mut tin, "inTangent"), (&mut tout, "outTangent")] {
+        if let Some(v) = get(key, name) {
+            *slot = Some(tangent(v, count).map_err(|m| format!("{name}{m}"))?);
+        }
+    }
+    if let Some(v) = get(key, "interpolation") {
+        let x = finite(v).ok_or_else(|| format!("interpolation: expected a number, found {}", show(v)))?;
+        interpolation = Some(vec![x]);
+    }
+    let step = interpolation.is_some_and(|i| i.first() == Some(&1.0));
+    Ok(RawKey { frame, values, tangents: [tin, tout], step })
+}
+
+/// `items` as finite numbers (`start` is the index of the first in `values`, for messages).
+fn numbers(items: &[Value], start: usize) -> Res<Vec<f32>> {
+    let bad = |i: usize, x: &Value| format!("values[{}]: expected a finite number, found {}", start + i, show(x));
+    items.iter().enumerate().map(|(i, x)| finite(x).ok_or_else(|| bad(i, x))).collect()
+}
+
+/// The packed tangents and interpolation after a float's or vector's value: in, out (each
+/// `null`, a number or an array of `count`) and the interpolation (as a one-number vector).
+fn packed(rest: &[Value], count: usize) -> Res<[Option<Vec<f32>>; 3]> {
+    let slot = |k: usize| -> Res<Option<Vec<f32>>> {
+        let at = count + k;
+        match rest.get(k) {
+            None | Some(Value::Null) => Ok(None),
+            Some(v) if k == 2 => numbers(core::slice::from_ref(v), at).map(Some),
+            Some(v) => tangent(v, count).map(Some).map_err(|m| format!("values[{at}]{m}")),
+        }
+    };
+    Ok([slot(0)?, slot(1)?, slot(2)?])
+}
+
+/// The packed tangents and interpolation after a quaternion: 4 numbers in (all zero: none),
+/// 4 out, then the interpolation.
+fn packed_quaternion(rest: &[Value]) -> Res<[Option<Vec<f32>>; 3]> {
+    let quad = |k: usize| -> Res<Option<Vec<f32>>> {
+        let Some(items) = rest.get(4 * k..4 * k + 4) else {
+            return Ok(None);
+        };
+        let q = numbers(items, 4 + 4 * k)?;
+        Ok(q.iter().any(|&x| x != 0.0).then_some(q))
+    };
+    let interpolation = match rest.get(8) {
+        None | Some(Value::Null) => None,
+        Some(v) => Some(numbers(core::slice::from_ref(v), 12)?),
+    };
+    Ok([quad(0)?, quad(1)?, interpolation])
+}
+
+/// A tangent: a number (for one-number values) or an array of `count` finite numbers; the
+/// message starts after the field's name.
+fn tangent(v: &Value, count: usize) -> Res<Vec<f32>> {
+    let expected = || format!(": expected {count} finite numbers, found {}", show(v));
+    match v {
+        Value::Array(a) if a.len() == count => a.iter().map(finite).collect::<Option<_>>().ok_or_else(expected),
+        Value::Number(_) if count == 1 => finite(v).map(|x| vec![x]).ok_or_else(expected),
+        _ => Err(expected()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn parse(anim: &Value) -> (Res<Parsed>, Vec<String>) {
+        let mut notes = Vec::new();
+        (parse_animation(anim, &mut notes), notes)
+    }
+
+    #[test]
+    fn properties_and_components() {
+        let node = |property, first, count| Some(Property::Node { property, first, count });
+        assert_eq!(property("position"), node(NodeProperty::Position, 0, 3));
+        assert_eq!(property("scaling.z"), node(NodeProperty::Scaling, 2, 1));
+        assert_eq!(property("rotationQuaternion.w"), node(NodeProperty::RotationQuaternion, 3, 1));
+        assert_eq!(property("rotation.w"), None);
+        assert_eq!(property("_matrix"), None);
+        assert_eq!(property("position.x.y"), None);
+        assert_eq!(property("influence"), Some(Property::Influence));
+    }
+
+    #[test]
+    fn packed_tangents_and_steps_are_read() {
+        let anim = json!({"property": "position", "dataType": 1, "keys": [
+            {"frame": 0, "values": [1, 2, 3, null, [4, 5, 6]]},
+            {"frame": 10, "values": [7, 8, 9, [1, 1, 1], null, 1]},
+        ]});
+        let (Ok(Ok((_, curve))), notes) = parse(&anim) else { panic!() };
+        assert_eq!(curve.fps, DEFAULT_FPS);
+        assert_eq!(curve.looping, Loop::Cycle);
+        assert_eq!(curve.keys[0].tangents, Some((vec![0.; 3], vec![4., 5., 6.])));
+        assert_eq!(curve.keys[1].tangents, Some((vec![1.; 3], vec![0.; 3])));
+        assert!(curve.keys[1].step && !curve.keys[0].step);
+        assert!(notes.is_empty(), "{notes:?}");
+
+        let quat = json!({"property": "rotationQuaternion", "dataType": 2, "keys": [
+            {"frame": 0, "values": [0, 0, 0, 1, 0, 0, 0, 0, 0.5, 0, 0, 0, 1]},
+            {"frame": 5, "values": [0, 0, 0, 1], "inTangent": [1, 0, 0, 0], "outTangent": [0, 1, 0, 0]},
+        ]});
+        let (Ok(Ok((_, curve))), notes) = parse(&quat) else { panic!() };
+        assert_eq!(curve.keys[0].tangents, Some((vec![0.; 4], vec![0.5, 0., 0., 0.])));
+        assert!(curve.keys[0].step);
+        assert_eq!(curve.keys[1].tangents, Some((vec![1., 0., 0., 0.], vec![0., 1., 0., 0.])));
+        assert!(notes.is_empty(), "{notes:?}");
+    }
+
+    #[test]
+    fn floats_may_be_bare_numbers_and_keys_are_sorted() {
+        let anim = json!({"property": "position.y", "framePerSecond": 24, "loopBehavior": 2, "keys": [
+            {"frame": 5, "values": 2.5}, {"frame": 1, "values": [1, 0.5, 0.25, 0]},
+        ]});
+        let (Ok(Ok((property, curve))), notes) = parse(&anim) else { panic!() };
+        assert_eq!(property, Property::Node { property: NodeProperty::Position, first: 1, count: 1 });
+        assert_eq!((curve.fps, curve.looping), (24., Loop::Constant));
+        let frames: Vec<f32> = curve.keys.iter().map(|k| k.frame).collect();
+        assert_eq!(frames, [1., 5.]);
+        assert_eq!(curve.keys[0].tangents, Some((vec![0.5], vec![0.25])));
+        assert_eq!(curve.keys[1].values, [2.5]);
+        assert_eq!(notes, ["keys are not in frame order: sorted by frame"]);
+    }
+
+    #[test]
+    fn skipped_and_malformed_animations() {
+        let skip = |anim: Value| match parse(&anim).0 {
+            Ok(Err(reason)) => reason,
+            other => panic!("{other:?}"),
+        };
+        assert!(skip(json!({"property": "_matrix", "dataType": 3, "keys": []})).contains("\"_matrix\""));
+        assert!(skip(json!({"property": "rotation", "dataType": 2, "keys": []})).contains("dataType 2 (quaternion)"));
+        assert_eq!(skip(json!({"property": "scaling", "keys": []})), "no keys");
+        assert!(skip(json!({"property": "scaling", "framePerSecond": 0, "keys": []})).contains("not positive"));
+        let error = |anim: Value| parse(&anim).0.err().unwrap_or_default();
+        let frame = error(json!({"property": "position", "keys": [{"frame": 0, "values": [0, 0, 0]},
+            {"frame": "2", "values": [0, 0, 0]}]}));
+        assert_eq!(frame, "keys[1].frame: expected a finite number, found \"2\"");
+        let short = error(json!({"property": "position", "keys": [{"frame": 0, "values": [0, 0]}]}));
+        assert_eq!(short, "keys[0].values: expected 3 numbers, found 2");
+        let tangent = error(json!({"property": "scaling", "keys": [{"frame": 0, "values": [1, 1, 1, 5]}]}));
+        assert_eq!(tangent, "keys[0].values[3]: expected 3 finite numbers, found 5");
+    }
+}

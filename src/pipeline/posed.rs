@@ -1,0 +1,50 @@
+//! A pose as the draws of a frame see it ([`Renderer::draw_posed`](super::Renderer::draw_posed)):
+//! the world matrix of each mesh that follows an animated node, and the morph targets'
+//! weights that the vertex stage adds to a mesh's positions and normals. It does not evaluate
+//! poses (`crate::animation` does).
+
+use super::scratch::Digest;
+use crate::animation::{Animation, Pose};
+use crate::format::{Model, Morphing, WorldAt};
+use crate::math::Mat4;
+
+/// A set pose of a model's animation.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Posed<'p> {
+    pub(crate) pose: &'p Pose<'p>,
+    pub(crate) animation: Animation<'p>,
+}
+
+impl<'p> Posed<'p> {
+    /// The world matrix of mesh `mesh` in this pose, when it follows an animated node.
+    pub(crate) fn mesh_world(&self, mesh: usize) -> Option<Mat4> {
+        let (node, below) = self.animation.link_of(mesh)?;
+        Some(self.pose.node_world(node)? * below)
+    }
+
+    /// Mesh `mesh`'s morph targets with their weights, when it has some.
+    pub(crate) fn morphing(&self, mesh: usize) -> Option<Morphing<'p>> {
+        let morph = self.animation.morph_of(mesh)?;
+        let weights = self.pose.weights().get(morph.weights())?;
+        Some(Morphing { morph, weights })
+    }
+
+    /// Mixes the pose into `digest` (a scratch's rows and vertices depend on it).
+    pub(crate) fn digest(&self, digest: u64) -> u64 {
+        let mut d = Digest::resume(digest);
+        d.floats(self.pose.weights());
+        for node in 0..self.animation.node_count() {
+            if let Some(m) = self.pose.node_world(node) {
+                d.floats(&m.to_cols_array());
+            }
+        }
+        d.finish()
+    }
+}
+
+/// The world matrix of draw `d` of `model` (at `world`, see `Model::placed_draw`), posed
+/// when `posed` moves it.
+pub(crate) fn draw_world(posed: Option<&Posed<'_>>, model: &Model<'_>, d: usize, world: WorldAt) -> Mat4 {
+    let moved = posed.filter(|_| d < model.mesh_count()).and_then(|p| p.mesh_world(d));
+    moved.unwrap_or_else(|| model.world(world))
+}
