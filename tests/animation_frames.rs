@@ -143,3 +143,97 @@ fn posed_frames_cover_what_babylon_draws() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// A cube on an animated node moving along x from 0 at frame 0 to 10 at frame 10 (linear),
+/// in one group over frames 0..=10, looping when `looping`.
+fn moving_cube(looping: bool) -> Vec<u8> {
+    use soft3d::convert::scene::*;
+    let mut scene = Scene::cube();
+    let keys = [(0.0, 0.0), (10.0, 10.0)]
+        .map(|(frame, x)| KeyData { frame, values: vec![x], tangents: None, step: false })
+        .to_vec();
+    scene.animation = AnimationData {
+        nodes: vec![NodeData {
+            name: "mover".into(),
+            parent: None,
+            above: IDENTITY,
+            position: [0.0; 3],
+            rotation: Rotation::Quaternion([0.0, 0.0, 0.0, 1.0]),
+            scaling: [1.0; 3],
+        }],
+        links: vec![MeshLink { mesh: 0, node: 0, below: IDENTITY }],
+        morphs: vec![],
+        tracks: vec![
+            TrackData {
+                target: TrackTarget::Node { node: 0, property: NodeProperty::Position, first: 0, count: 1 },
+                fps: 10.0,
+                looping: Loop::Cycle,
+                keys,
+            },
+            // Ignored, as by Babylon.js: the node has a quaternion.
+            TrackData {
+                target: TrackTarget::Node { node: 0, property: NodeProperty::Rotation, first: 1, count: 1 },
+                fps: 10.0,
+                looping: Loop::Cycle,
+                keys: vec![KeyData { frame: 0.0, values: vec![1.0], tangents: None, step: false }],
+            },
+        ],
+        groups: vec![GroupData { name: "move".into(), from: 0.0, to: 10.0, looping, tracks: vec![0, 1] }],
+    };
+    emit(&scene, &EmitOptions::default()).unwrap()
+}
+
+#[test]
+fn a_pose_follows_the_keys_and_loops_as_the_group_says() {
+    for looping in [true, false] {
+        let bytes = moving_cube(looping);
+        let model = Model::parse(&bytes).unwrap();
+        let a = model.animation().unwrap();
+        let (mut nodes, mut weights) = ([Mat4::ZERO; 1], [0.0f32; 0]);
+        let mut pose = Pose::new(&mut nodes, &mut weights);
+        let mut x_at = |frame: f32| {
+            pose.evaluate(&a, frame, Some(0)).unwrap();
+            pose.node_world(0).unwrap()
+        };
+        assert!((x_at(2.5).w_axis.x - 2.5).abs() < 1e-6);
+        // The Euler track changed nothing: no rotation.
+        assert!((x_at(2.5).x_axis - soft3d::Vec4::X).abs().max_element() < 1e-6);
+        // Past the group's last frame: 13 wraps to 3, or stays at 10.
+        let expected = if looping { 3.0 } else { 10.0 };
+        assert!((x_at(13.0).w_axis.x - expected).abs() < 1e-5, "looping {looping}");
+        // Before the first: the first key.
+        assert_eq!(x_at(-4.0).w_axis.x, 0.0);
+    }
+    let bytes = moving_cube(true);
+    let model = Model::parse(&bytes).unwrap();
+    let a = model.animation().unwrap();
+    let (mut none, mut weights) = ([Mat4::ZERO; 0], [0.0f32; 0]);
+    let mut pose = Pose::new(&mut none, &mut weights);
+    let err = pose.evaluate(&a, 1.0, None).unwrap_err();
+    assert_eq!(err, soft3d::animation::PoseError::TooSmall { nodes: 1, weights: 0 });
+    assert_eq!(pose.node_world(0), None);
+    let (mut nodes, mut weights) = ([Mat4::ZERO; 1], [0.0f32; 0]);
+    let mut pose = Pose::new(&mut nodes, &mut weights);
+    assert_eq!(pose.evaluate(&a, 1.0, Some(1)).unwrap_err(), soft3d::animation::PoseError::NoSuchGroup(1));
+}
+
+#[test]
+fn a_pose_at_the_first_frame_is_the_still_scene() {
+    // The logo's autoAnimate first frame, baked by the converter into the mesh's world
+    // matrix, equals the pose at that frame.
+    let path = shared("assets/logo-animation/logo.babylon");
+    if !path.exists() {
+        return;
+    }
+    let (scene, _) = read_babylon_file(&path, &ConvertOptions::default()).unwrap();
+    let bytes = emit(&scene, &EmitOptions::default()).unwrap();
+    let model = Model::parse(&bytes).unwrap();
+    let a = model.animation().unwrap();
+    let (mut nodes, mut weights) = ([Mat4::ZERO; 1], [0.0f32; 0]);
+    let mut pose = Pose::new(&mut nodes, &mut weights);
+    pose.evaluate(&a, 1.0, None).unwrap();
+    let (node, below) = a.link_of(0).unwrap();
+    let posed = pose.node_world(node).unwrap() * below;
+    let still = model.mesh(0).unwrap().world();
+    assert!((posed - still).abs().to_cols_array().iter().all(|&d| d < 1e-5), "{posed} vs {still}");
+}

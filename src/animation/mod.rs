@@ -130,6 +130,10 @@ impl<'s> Pose<'s> {
             TrackTarget::Scaling(n) => (2, n),
         };
         let Some(slot) = self.nodes.get_mut(node as usize) else { return };
+        // Babylon.js ignores `rotation` while a node has a `rotationQuaternion`.
+        if matches!(track.target(), TrackTarget::Rotation(_)) && slot.w_axis.x != 0.0 {
+            return;
+        }
         let first = track.first_component();
         let col = slot.col_mut(column);
         for c in 0..track.component_count() {

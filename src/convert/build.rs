@@ -76,7 +76,10 @@ impl std::error::Error for BuildError {
 /// Converts `input` (a `.babylon` file) into the `.s3d` file `output`, for a firmware's
 /// `build.rs`: prints `cargo:rerun-if-changed` for the scene and its folder (textures) and each
 /// converter warning as `cargo:warning`. The output is written to a temporary file and renamed,
-/// so a failed build never leaves a partial `.s3d` behind.
+/// so a failed build never leaves a partial `.s3d` behind. Beside it, `output` with the
+/// extension `rs` holds the constants a firmware sizes a [`Pose`](crate::animation::Pose)'s
+/// memory with (`POSE_NODES` matrices and `POSE_WEIGHTS` weights: see
+/// [`pose_memory`](crate::animation::pose_memory)), for `include!`.
 ///
 /// ```no_run
 /// // build.rs
@@ -105,10 +108,26 @@ pub fn build_script_convert(
         std::println!("cargo:warning={}: {w}", input.display());
     }
     let bytes = emit(&scene, emit_opts).map_err(|source| BuildError::Emit { path: input.to_path_buf(), source })?;
-    let tmp = output.with_extension("s3d.tmp");
+    let a = &scene.animation;
+    let (nodes, weights) = crate::animation::pose_memory(a.nodes.len(), a.morphs.iter().map(|m| m.targets.len()).sum());
+    let constants = std::format!(
+        "// Written by soft3d::convert::build_script_convert for {}.\n\
+         /// Matrices a `soft3d::animation::Pose` of this scene needs.\npub const POSE_NODES: usize = {nodes};\n\
+         /// Morph weights a `soft3d::animation::Pose` of this scene needs.\npub const POSE_WEIGHTS: usize = {weights};\n",
+        input.display()
+    );
+    write_atomically(output, &bytes)?;
+    write_atomically(&output.with_extension("rs"), constants.as_bytes())
+}
+
+/// Writes `bytes` to `path` through a temporary file renamed into place.
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), BuildError> {
+    let mut tmp = std::ffi::OsString::from(path.as_os_str());
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
     std::fs::write(&tmp, bytes)
-        .and_then(|()| std::fs::rename(&tmp, output))
-        .map_err(|source| BuildError::Write { path: output.to_path_buf(), source })
+        .and_then(|()| std::fs::rename(&tmp, path))
+        .map_err(|source| BuildError::Write { path: path.to_path_buf(), source })
 }
 
 #[cfg(test)]
@@ -128,6 +147,23 @@ mod tests {
         let source = err.source().expect("a source").to_string();
         assert_eq!(err.to_string(), source);
         assert!(source.starts_with("no/such/scene.babylon: "), "{source}");
+    }
+
+    #[test]
+    fn the_pose_constants_are_written_beside_the_model() {
+        let input = Path::new("../shared/assets/morph-cube/AnimatedMorphCube.babylon");
+        if !input.exists() {
+            return;
+        }
+        let dir = std::env::temp_dir().join(std::format!("soft3d-build-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let output = dir.join("cube.s3d");
+        build_script_convert(input, &output, &ConvertOptions::default(), &EmitOptions::default()).unwrap();
+        let constants = std::fs::read_to_string(dir.join("cube.rs")).unwrap();
+        // Two meshes of two morph targets each, no animated node.
+        assert!(constants.contains("pub const POSE_NODES: usize = 0;"), "{constants}");
+        assert!(constants.contains("pub const POSE_WEIGHTS: usize = 4;"), "{constants}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -321,7 +321,9 @@ fn emit_mesh(
     let nv = m.positions.len();
     out.put_affine(at + mesh::WORLD.start, &m.world);
     let (pos_offset, pos_scale) =
-        if float_positions { ([0.0; 3], [1.0; 3]) } else { quantizer(m.positions.iter().copied()) };
+        // Over the positions the morph targets reach too: an axis flat at rest but not when
+        // morphed keeps a step (its deltas are stored in steps).
+        if float_positions { ([0.0; 3], [1.0; 3]) } else { quantizer(m.positions.iter().chain(reach).copied()) };
     out.put_f32s(at + mesh::POS_OFFSET.start, &pos_offset);
     out.put_f32s(at + mesh::POS_SCALE.start, &pos_scale);
     let sphere = if reach.is_empty() { bounding_sphere(&m.positions) } else { bounding_sphere(reach) };

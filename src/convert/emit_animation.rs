@@ -17,6 +17,10 @@ use crate::math::Mat4;
 pub(super) fn emit_animation(out: &mut Out, scene: &Scene) -> Result<u32, EmitError> {
     let a = &scene.animation;
     check_finite(a)?;
+    let links_increase = a.links.windows(2).all(|w| w[0].mesh < w[1].mesh);
+    if !links_increase || !a.morphs.windows(2).all(|w| w[0].mesh < w[1].mesh) {
+        return Err(EmitError("animation: links and morphs must be in increasing mesh order, one a mesh".into()));
+    }
     let count = |n: usize, what: &str| {
         u16::try_from(n).ok().filter(|&n| n != NONE).ok_or_else(|| EmitError(std::format!("too many {what}: {n}")))
     };
@@ -187,11 +191,15 @@ fn emit_tracks(out: &mut Out, a: &AnimationData) -> Result<u32, EmitError> {
                 (kind, first, count, node)
             }
             TrackTarget::Morph { morph, target } => {
-                let base = *weight_base.get(morph as usize).ok_or_else(bad)?;
+                let targets = a.morphs.get(morph as usize).map_or(0, |m| m.targets.len());
+                let base = *weight_base.get(morph as usize).filter(|_| (target as usize) < targets).ok_or_else(bad)?;
                 (track::KIND_INFLUENCE, 0, 1, u16::try_from(base + target as usize).map_err(|_| bad())?)
             }
         };
-        let tangents = t.keys.iter().all(|k| k.tangents.is_some()) && !t.keys.is_empty();
+        // Tangents are stored for a whole track (when every key has both, of `count` values).
+        let n = count as usize;
+        let tangents = !t.keys.is_empty()
+            && t.keys.iter().all(|k| k.tangents.as_ref().is_some_and(|(i, o)| i.len() == n && o.len() == n));
         let looping = match t.looping {
             Loop::Relative => 0,
             Loop::Cycle => 1,

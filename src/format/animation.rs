@@ -95,6 +95,11 @@ fn invalid(part: Part, offset: usize) -> ParseError {
 }
 
 impl<'a> Animation<'a> {
+    /// The section at `at` of `data`, which [`Animation::validate`] accepted (in `Model::parse`).
+    pub(super) fn validated(data: &'a [u8], at: u32) -> Self {
+        Animation { data, at: at as usize }
+    }
+
     /// Checks the section at `at` of `data`, for a model whose meshes have `vertices(m)`
     /// vertices (`None` past the last mesh).
     pub(super) fn validate(
@@ -147,13 +152,16 @@ impl<'a> Animation<'a> {
         let d = self.data;
         let links = self.table(animation::LINKS, animation::LINK_COUNT, link::LEN, Part::Link)?;
         let meshes = (0..).take_while(|&m| vertices(m).is_some()).count();
-        for at in links.clone().step_by(link::LEN) {
+        let mut last = None;
+        for at in links.step_by(link::LEN) {
             let mesh = reference(d, at + link::MESH.start, meshes, Part::Link)?;
             reference(d, at + link::NODE.start, self.node_count(), Part::Link)?;
             finite(d, at + link::BELOW.start..at + link::LEN, Part::Link)?;
-            if links.clone().step_by(link::LEN).filter(|&o| u16_at(d, o) as usize == mesh).count() > 1 {
+            // By increasing mesh: at most one link a mesh, checked in one pass.
+            if last.is_some_and(|l| l >= mesh) {
                 return Err(invalid(Part::Link, at));
             }
+            last = Some(mesh);
         }
         Ok(())
     }
@@ -162,11 +170,14 @@ impl<'a> Animation<'a> {
         let d = self.data;
         let morphs = self.table(animation::MORPHS, animation::MORPH_COUNT, morph::LEN, Part::Morph)?;
         let meshes = (0..).take_while(|&m| vertices(m).is_some()).count();
-        for at in morphs.clone().step_by(morph::LEN) {
+        let mut last = None;
+        for at in morphs.step_by(morph::LEN) {
             let mesh = reference(d, at + morph::MESH.start, meshes, Part::Morph)?;
-            if morphs.clone().step_by(morph::LEN).filter(|&o| u16_at(d, o) as usize == mesh).count() > 1 {
+            // By increasing mesh, as links.
+            if last.is_some_and(|l| l >= mesh) {
                 return Err(invalid(Part::Morph, at));
             }
+            last = Some(mesh);
             let m = Morph { data: d, at };
             let (targets, flags) = (m.target_count() as usize, u16_at(d, at + morph::FLAGS.start));
             let first = u16_at(d, at + morph::FIRST_WEIGHT.start) as usize;
@@ -198,13 +209,21 @@ impl<'a> Animation<'a> {
 
     fn validate_tracks(&self) -> Result<(), ParseError> {
         let tracks = self.table(animation::TRACKS, animation::TRACK_COUNT, track::LEN, Part::Track)?;
+        // Each track's keys after the previous track's: their checks (and every later pass
+        // over them) take at most one pass over the file, whatever the counts claim.
+        let mut end = 0;
         for at in tracks.step_by(track::LEN) {
-            self.validate_track(at)?;
+            let keys = self.validate_track(at)?;
+            if keys.start < end {
+                return Err(invalid(Part::Track, at + track::KEYS.start));
+            }
+            end = keys.end;
         }
         Ok(())
     }
 
-    fn validate_track(&self, at: usize) -> Result<(), ParseError> {
+    /// Checks the track at `at`; the range of its keys.
+    fn validate_track(&self, at: usize) -> Result<Range<usize>, ParseError> {
         let (d, t) = (self.data, Track { data: self.data, at });
         let (first, count) = (u8_at(d, at + track::FIRST) as usize, t.component_count());
         let (targets, fits) = match u8_at(d, at + track::KIND) {
@@ -228,19 +247,21 @@ impl<'a> Animation<'a> {
         let keys = records(d, u32_at(d, keys_at), (t.key_count(), t.key_len()), Part::Track, keys_at)?;
         finite(d, keys.clone(), Part::Track)?;
         let mut last = f32::NEG_INFINITY;
-        for k in keys.step_by(t.key_len()) {
+        for k in keys.clone().step_by(t.key_len()) {
             let frame = f32_at(d, k + key::FRAME.start);
             if frame < last || u32_at(d, k + key::FLAGS.start) > key::FLAG_STEP {
                 return Err(invalid(Part::Track, k));
             }
             last = frame;
         }
-        Ok(())
+        Ok(keys)
     }
 
     fn validate_groups(&self) -> Result<(), ParseError> {
         let d = self.data;
         let groups = self.table(animation::GROUPS, animation::GROUP_COUNT, group::LEN, Part::Group)?;
+        // Track lists and names each after the previous group's (see `validate_tracks`).
+        let (mut list_end, mut name_end) = (0, 0);
         for at in groups.step_by(group::LEN) {
             finite(d, at..at + group::TO.end, Part::Group)?;
             if f32_at(d, at + group::TO.start) < f32_at(d, at + group::FROM.start) || u8_at(d, at + group::FLAGS) > 1 {
@@ -249,15 +270,20 @@ impl<'a> Animation<'a> {
             let n = u16_at(d, at + group::TRACK_COUNT.start) as usize;
             let list_at = at + group::TRACKS.start;
             let list = records(d, u32_at(d, list_at), (n, 2), Part::Group, list_at)?;
+            if list.start < list_end {
+                return Err(invalid(Part::Group, list_at));
+            }
+            list_end = list.end;
             for k in list.step_by(2) {
                 reference(d, k, self.track_count(), Part::Group)?;
             }
             let name_at = at + group::NAME.start;
             let len = u16_at(d, at + group::NAME_LEN.start) as usize;
             let name = records(d, u32_at(d, name_at), (len, 1), Part::Group, name_at)?;
-            if core::str::from_utf8(&d[name]).is_err() {
+            if name.start < name_end || d.get(name.clone()).is_none_or(|b| core::str::from_utf8(b).is_err()) {
                 return Err(invalid(Part::Group, name_at));
             }
+            name_end = name.end;
         }
         Ok(())
     }
@@ -443,20 +469,24 @@ impl Track<'_> {
         key::VALUES + 4 * self.component_count() * if self.has_tangents() { 3 } else { 1 }
     }
 
+    /// Where key `k` lies (past the data for a key beyond the last: it reads as zeros).
     fn key_at(&self, k: usize) -> usize {
+        if k >= self.key_count() {
+            return usize::MAX;
+        }
         u32_at(self.data, self.at + track::KEYS.start) as usize + k * self.key_len()
     }
 
     /// Key `k`'s frame.
     #[must_use]
     pub fn frame(&self, k: usize) -> f32 {
-        f32_at(self.data, self.key_at(k) + key::FRAME.start)
+        f32_at(self.data, self.key_at(k).saturating_add(key::FRAME.start))
     }
 
     /// Whether key `k` holds its value until the next key.
     #[must_use]
     pub fn is_step(&self, k: usize) -> bool {
-        u32_at(self.data, self.key_at(k) + key::FLAGS.start) & key::FLAG_STEP != 0
+        u32_at(self.data, self.key_at(k).saturating_add(key::FLAGS.start)) & key::FLAG_STEP != 0
     }
 
     /// Key `k`'s value (`set` 0), in tangent (1) or out tangent (2), components beyond
@@ -464,8 +494,10 @@ impl Track<'_> {
     #[must_use]
     pub fn value(&self, k: usize, set: usize) -> Vec4 {
         let n = self.component_count();
-        let at = self.key_at(k) + key::VALUES + 4 * n * set;
-        Vec4::from_array(core::array::from_fn(|c| if c < n { f32_at(self.data, at + 4 * c) } else { 0.0 }))
+        let at = self.key_at(k).saturating_add(key::VALUES + 4 * n * set.min(2));
+        Vec4::from_array(core::array::from_fn(
+            |c| if c < n { f32_at(self.data, at.saturating_add(4 * c)) } else { 0.0 },
+        ))
     }
 }
 
@@ -524,14 +556,18 @@ impl<'a> Morph<'a> {
         u16_at(self.data, self.at + morph::FLAGS.start) & morph::FLAG_NORMALS != 0
     }
 
+    /// Where target `t`'s record lies (past the data beyond the last target: zeros).
     fn target_at(&self, t: usize) -> usize {
+        if t >= self.target_count() as usize {
+            return usize::MAX;
+        }
         u32_at(self.data, self.at + morph::TARGETS.start) as usize + t * morph_target::LEN
     }
 
     /// Target `t`'s influence at rest.
     #[must_use]
     pub fn default_influence(&self, t: usize) -> f32 {
-        f32_at(self.data, self.target_at(t) + morph_target::INFLUENCE.start)
+        f32_at(self.data, self.target_at(t).saturating_add(morph_target::INFLUENCE.start))
     }
 
     /// Target `t`'s delta of vertex `i`: position (stored units) or normal (`normal`), zero
@@ -547,10 +583,14 @@ impl<'a> Morph<'a> {
         } else {
             (morph_target::POSITION_SCALE, morph_target::POSITIONS)
         };
-        let d = u32_at(self.data, at + table.start) as usize + i as usize * morph_target::DELTA_LEN;
-        let q =
-            Vec3::new(i16_at(self.data, d) as f32, i16_at(self.data, d + 2) as f32, i16_at(self.data, d + 4) as f32);
-        q * f32_at(self.data, at + scale.start)
+        if at == usize::MAX {
+            return Vec3::ZERO;
+        }
+        // Saturating: past the deltas (an index beyond the vertices) reads zeros.
+        let d = (u32_at(self.data, at + table.start) as usize)
+            .saturating_add((i as usize).saturating_mul(morph_target::DELTA_LEN));
+        let c = |k: usize| i16_at(self.data, d.saturating_add(k)) as f32;
+        Vec3::new(c(0), c(2), c(4)) * f32_at(self.data, at + scale.start)
     }
 }
 

@@ -93,10 +93,10 @@
 //! y, z and 0, or quaternion x, y, z, w), 32..44 3 x f32 scaling, 44..92 the `above` matrix (as
 //! a mesh's world matrix).
 //!
-//! **Link** (52 bytes): 0..2 u16 mesh, 2..4 u16 node, 4..52 the `below` matrix. A mesh has at
-//! most one link.
+//! **Link** (52 bytes): 0..2 u16 mesh, 2..4 u16 node, 4..52 the `below` matrix. Links are
+//! in increasing mesh order (so a mesh has at most one).
 //!
-//! **Morph** (12 bytes): 0..2 u16 mesh (at most one morph a mesh), 2..4 u16 target count (>=
+//! **Morph** (12 bytes, in increasing mesh order): 0..2 u16 mesh, 2..4 u16 target count (>=
 //! 1), 4..6 u16 first weight (its targets' weights are `first..first + count`, inside the
 //! weight count), 6..8 u16 flags (bit 0: normal deltas), 8..12 u32 offset of its target
 //! records.

@@ -16,6 +16,7 @@ use soft3d::{
     Shading, SortEntry, Stats, MAX_DIMENSION,
 };
 
+mod info;
 mod output;
 mod render;
 mod view;
@@ -241,7 +242,8 @@ struct RenderArgs {
     /// Also write a turntable animation to this GIF.
     #[arg(long)]
     gif: Option<PathBuf>,
-    /// Frames of the GIF (at least 1).
+    /// Frames of a turntable GIF (at least 1); a scene with animations plays every frame of
+    /// its range instead (--animation's group, else all), at its frame rate.
     #[arg(long, default_value_t = 36, value_parser = clap::value_parser!(u32).range(1..))]
     frames: u32,
     /// How the statistics are printed: a line of text, or one JSON object a frame (the
@@ -380,6 +382,7 @@ fn cmd_info(input: &Path, conv: &ConvertArgs) -> Result<()> {
             println!("  texture {i}: {}x{} {:?}, {} bytes", t.width, t.height, t.format, t.texels.len());
         }
     }
+    info::print_animation(&model);
     for l in model.lights() {
         println!(
             "  light {:?} {:?} diffuse {:?} intensity {}",

@@ -81,27 +81,61 @@ pub(crate) fn print_stats(
     }
 }
 
+/// What a GIF shows: the scene's animation (every frame of a group's range, at its frame
+/// rate: `--animation`'s group, else every group over all their ranges), or without one a
+/// turntable of `--frames` frames at 20 a second.
+struct Playback {
+    frames: u32,
+    delay_ms: u32,
+    /// `(first frame, group)` of an animation; `None`: a turntable.
+    animation: Option<(f32, Option<usize>)>,
+}
+
+/// At most this many frames of an animation in a GIF.
+const MAX_GIF_FRAMES: u32 = 600;
+
+fn playback(model: &Model<'_>, view: &View, args: &RenderArgs) -> Playback {
+    let turntable = Playback { frames: args.frames, delay_ms: 50, animation: None };
+    let Some(a) = model.animation().filter(|a| a.group_count() > 0) else { return turntable };
+    let group = view.pose.and_then(|(_, g)| g);
+    let groups: Vec<_> = group.map_or(0..a.group_count(), |g| g..g + 1).filter_map(|g| a.group(g)).collect();
+    let from = groups.iter().map(|g| g.range().0).fold(f32::INFINITY, f32::min);
+    let to = groups.iter().map(|g| g.range().1).fold(f32::NEG_INFINITY, f32::max);
+    let fps = groups.iter().flat_map(|g| g.tracks()).find_map(|t| a.track(t)).map_or(30.0, |t| t.fps());
+    let frames = ((to - from).max(0.0) as u32 + 1).min(MAX_GIF_FRAMES);
+    Playback { frames, delay_ms: (1000.0 / fps).round().max(10.0) as u32, animation: Some((from, group)) }
+}
+
 pub(crate) fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &RenderArgs) -> Result<()> {
     let mut out = Vec::new();
+    let play = playback(model, view, args);
     {
         let mut enc = image::codecs::gif::GifEncoder::new_with_speed(&mut out, 10);
         enc.set_repeat(image::codecs::gif::Repeat::Infinite).map_err(|e| e.to_string())?;
-        let frames = args.frames;
+        let frames = play.frames;
         for f in 0..frames {
-            let spin = f as f32 / frames as f32 * std::f32::consts::TAU;
+            let mut posed = view.clone();
+            let spin = match play.animation {
+                Some((first, group)) => {
+                    posed.pose = Some((first + f as f32, group));
+                    0.0
+                }
+                None => f as f32 / frames as f32 * std::f32::consts::TAU,
+            };
             let start = std::time::Instant::now();
-            let frame = render_any(model, view, spin, args, false)?;
+            let frame = render_any(model, &posed, spin, args, false)?;
             if args.stats == StatsFormat::Json {
                 print_stats(args, (f + 1, view), (model, &frame.stats), start.elapsed().as_secs_f64() * 1e3);
             }
             let rgba: Vec<u8> = frame.rgb.iter().flat_map(|c| [c[0], c[1], c[2], 255]).collect();
             let img =
                 image::RgbaImage::from_raw(view.width as u32, view.height as u32, rgba).ok_or("image size mismatch")?;
-            let frame = image::Frame::from_parts(img, 0, 0, image::Delay::from_numer_denom_ms(50, 1));
+            let frame = image::Frame::from_parts(img, 0, 0, image::Delay::from_numer_denom_ms(play.delay_ms, 1));
             enc.encode_frame(frame).map_err(|e| e.to_string())?;
         }
     }
     write_atomically(path, &out)?;
-    println!("{}: {} frames", path.display(), args.frames);
+    let what = if play.animation.is_some() { "of the scene's animation" } else { "of a turntable" };
+    println!("{}: {} frames {what}", path.display(), play.frames);
     Ok(())
 }

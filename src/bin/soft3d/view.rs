@@ -3,6 +3,7 @@
 
 use super::*;
 
+#[derive(Clone)]
 pub(crate) struct View {
     pub(crate) camera: Camera,
     pub(crate) lights: Lights<8>,

@@ -650,6 +650,8 @@ fn property(name: &str) -> Option<Property> {
     };
     match component {
         None => Some(Property::Node { property, first: 0, count: size }),
+        // One component of a quaternion is not a rotation on its own: not played.
+        Some(_) if property == NodeProperty::RotationQuaternion => None,
         Some(c) => {
             let first = ["x", "y", "z", "w"].iter().position(|&n| n == c).filter(|&k| k < usize::from(size))?;
             Some(Property::Node { property, first: first as u8, count: 1 })
@@ -836,7 +838,9 @@ mod tests {
         let node = |property, first, count| Some(Property::Node { property, first, count });
         assert_eq!(property("position"), node(NodeProperty::Position, 0, 3));
         assert_eq!(property("scaling.z"), node(NodeProperty::Scaling, 2, 1));
-        assert_eq!(property("rotationQuaternion.w"), node(NodeProperty::RotationQuaternion, 3, 1));
+        // One component of a quaternion is no rotation on its own (the format stores whole ones).
+        assert_eq!(property("rotationQuaternion.w"), None);
+        assert_eq!(property("rotationQuaternion"), node(NodeProperty::RotationQuaternion, 0, 4));
         assert_eq!(property("rotation.w"), None);
         assert_eq!(property("_matrix"), None);
         assert_eq!(property("position.x.y"), None);

@@ -1,0 +1,71 @@
+//! `soft3d info`'s animation lines: the groups (frames, loop, tracks and what their keys
+//! cost), the animated nodes and the morphed meshes with their targets' bytes.
+
+use soft3d::animation::{Animation, Track, TrackTarget};
+use soft3d::Model;
+
+/// The bytes a track's record and keys take in the file.
+fn track_bytes(t: &Track<'_>) -> usize {
+    let floats = t.component_count() * if t.has_tangents() { 3 } else { 1 };
+    24 + t.key_count() * (8 + 4 * floats)
+}
+
+/// What a track moves, in words.
+fn target_name(t: &Track<'_>) -> String {
+    match t.target() {
+        TrackTarget::Position(n) => format!("node {n} position"),
+        TrackTarget::Rotation(n) => format!("node {n} rotation"),
+        TrackTarget::Scaling(n) => format!("node {n} scaling"),
+        TrackTarget::Quaternion(n) => format!("node {n} rotationQuaternion"),
+        TrackTarget::Influence(w) => format!("morph weight {w}"),
+    }
+}
+
+/// Prints `model`'s animations (nothing for a still model).
+pub(crate) fn print_animation(model: &Model<'_>) {
+    let Some(a) = model.animation() else { return };
+    println!(
+        "  animation: {} groups, {} tracks, {} animated nodes, {} morphed meshes ({} targets)",
+        a.group_count(),
+        a.track_count(),
+        a.node_count(),
+        a.morph_count(),
+        a.weight_count()
+    );
+    for g in (0..a.group_count()).filter_map(|g| a.group(g)) {
+        let (from, to) = g.range();
+        let tracks: Vec<Track<'_>> = g.tracks().filter_map(|t| a.track(t)).collect();
+        let bytes: usize = tracks.iter().map(track_bytes).sum();
+        let fps = tracks.first().map_or(0.0, Track::fps);
+        let looping = if g.loops() { "looping" } else { "once" };
+        println!(
+            "    group \"{}\": frames {from} to {to} at {fps} fps, {looping}, {} tracks, {bytes} bytes",
+            g.name(),
+            tracks.len()
+        );
+        for t in &tracks {
+            println!(
+                "      {}: {} keys{}",
+                target_name(t),
+                t.key_count(),
+                if t.has_tangents() { " with tangents" } else { "" }
+            );
+        }
+    }
+    print_morphs(model, &a);
+}
+
+fn print_morphs(model: &Model<'_>, a: &Animation<'_>) {
+    for m in (0..a.morph_count()).filter_map(|i| a.morph_at(i)) {
+        let vertices = model.mesh(m.mesh()).map_or(0, |mesh| mesh.vertex_count() as usize);
+        let per_target = 20 + 6 * vertices * if m.has_normals() { 2 } else { 1 };
+        println!(
+            "    morph of mesh {}: {} targets (weights {:?}), {} bytes{}",
+            m.mesh(),
+            m.target_count(),
+            m.weights(),
+            per_target * m.target_count() as usize,
+            if m.has_normals() { ", with normals" } else { "" }
+        );
+    }
+}
