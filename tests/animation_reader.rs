@@ -252,12 +252,29 @@ fn shapekey_animation() {
     assert!(!has(&warnings, &["morph"]), "{warnings:?}");
 }
 
-/// The rabbit's skeleton is not played: said once, naming the feature.
+/// The rabbit's skeleton: four bones as nodes (bone 0 the root), their `_matrix` keys as step
+/// tracks of position, quaternion and scaling, one looping group over the keys, and the
+/// skinned mesh's four influences a vertex.
 #[test]
-fn rabbit_skeleton_is_not_played() {
+fn rabbit_skeleton_is_read() {
     let Some((scene, warnings, _)) = shared("rabbit/Rabbit.babylon") else { return };
-    assert!(has(&warnings, &["skeletons are not played", "bind pose"]), "{warnings:?}");
-    assert!(scene.animation.is_empty());
+    assert!(!has(&warnings, &["skeleton"]), "{warnings:?}");
+    let anim = &scene.animation;
+    let parents: Vec<Option<u16>> = anim.nodes.iter().map(|n| n.parent).collect();
+    assert_eq!(parents, [None, Some(0), Some(0), Some(0)]);
+    assert_eq!(anim.tracks.len(), 12);
+    assert!(anim.tracks.iter().all(|t| t.fps == 60. && t.keys.len() == 141 && t.keys.iter().all(|k| k.step)));
+    assert_eq!(anim.groups.len(), 1);
+    let g = &anim.groups[0];
+    assert!(g.looping && g.from == 0. && (g.to - 100.014_29).abs() < 1e-4 && g.tracks.len() == 12, "{g:?}");
+    assert_eq!(anim.skins.len(), 1);
+    let skin = &anim.skins[0];
+    assert_eq!(skin.bones.len(), 4);
+    assert_eq!(skin.vertices.len(), scene.meshes[skin.mesh as usize].positions.len());
+    assert!(skin.vertices.iter().all(|(_, w)| (w.iter().sum::<f32>() - 1.0).abs() < 1e-3));
+    // The root bone's inverse bind undoes its matrix (the bind pose).
+    let bind = soft3d::Mat4::from_cols_array(&skin.bones[0].inverse_bind).inverse();
+    assert!((bind.w_axis.y - 1.874).abs() < 1e-3, "{bind}");
 }
 
 /// A still scene has no animation.

@@ -14,7 +14,7 @@
 
 mod keys;
 
-pub use crate::format::{Animation, Group, Morph, Node, Track, TrackTarget};
+pub use crate::format::{Animation, Group, Morph, Node, Skin, Track, TrackTarget};
 
 use crate::math::{Mat3, Mat4, Vec3, Vec4};
 
@@ -24,7 +24,7 @@ pub enum PoseError {
     /// The pose's memory is too small for the model: it needs `nodes` matrices and `weights`
     /// morph weights ([`Pose::new`]).
     TooSmall {
-        /// Matrices needed (one an animated node).
+        /// Matrices needed (one an animated node and one a bone of each skin).
         nodes: usize,
         /// Weights needed (one a morph target).
         weights: usize,
@@ -44,22 +44,26 @@ impl core::fmt::Display for PoseError {
     }
 }
 
-/// The matrices (one a node) and weights (one a morph target) a [`Pose`] of a model with
-/// `nodes` animated nodes and `weights` morph targets needs: what `convert::build_script_convert`
-/// writes as constants for a converted scene.
+/// The matrices (one a node, one a bone of each skin) and weights (one a morph target) a
+/// [`Pose`] of a model with `nodes` animated nodes, `bones` skin bones and `weights` morph
+/// targets needs: what `convert::build_script_convert` writes as constants for a converted
+/// scene (and [`Animation::node_count`], [`Animation::palette_count`] and
+/// [`Animation::weight_count`] say at run time).
 #[must_use]
-pub const fn pose_memory(nodes: usize, weights: usize) -> (usize, usize) {
-    (nodes, weights)
+pub const fn pose_memory(nodes: usize, bones: usize, weights: usize) -> (usize, usize) {
+    (nodes.saturating_add(bones), weights)
 }
 
 /// A model's pose at one frame: the world matrix of each animated node and the weight of each
 /// morph target, in memory the caller owns. Every band of a frame draws the same pose.
 #[derive(Debug)]
 pub struct Pose<'s> {
+    /// The animated nodes' world matrices, then the skins' bone matrices (the palette).
     nodes: &'s mut [Mat4],
     weights: &'s mut [f32],
-    /// How many of each the last evaluation set (0: the pose is not set, a draw uses rest).
-    set: (usize, usize),
+    /// How many nodes, bone matrices and weights the last evaluation set (none: the pose is
+    /// not set, a draw uses rest).
+    set: (usize, usize, usize),
 }
 
 impl<'s> Pose<'s> {
@@ -67,7 +71,7 @@ impl<'s> Pose<'s> {
     /// [`Pose::evaluate`].
     #[must_use]
     pub fn new(nodes: &'s mut [Mat4], weights: &'s mut [f32]) -> Self {
-        Pose { nodes, weights, set: (0, 0) }
+        Pose { nodes, weights, set: (0, 0, 0) }
     }
 
     /// Sets the pose of `animation` at `frame` of group `group` (every group when `None`; see
@@ -78,9 +82,10 @@ impl<'s> Pose<'s> {
     /// [`PoseError::NoSuchGroup`] for a group past the last (the pose is then not set).
     pub fn evaluate(&mut self, animation: &Animation<'_>, frame: f32, group: Option<usize>) -> Result<(), PoseError> {
         let (n, w) = (animation.node_count(), animation.weight_count());
-        self.set = (0, 0);
-        if self.nodes.len() < n || self.weights.len() < w {
-            return Err(PoseError::TooSmall { nodes: n, weights: w });
+        let (matrices, _) = pose_memory(n, animation.palette_count(), w);
+        self.set = (0, 0, 0);
+        if self.nodes.len() < matrices || self.weights.len() < w {
+            return Err(PoseError::TooSmall { nodes: matrices, weights: w });
         }
         if let Some(g) = group.filter(|&g| g >= animation.group_count()) {
             return Err(PoseError::NoSuchGroup(g));
@@ -94,7 +99,8 @@ impl<'s> Pose<'s> {
             }
         }
         self.compose(animation);
-        self.set = (n, w);
+        self.bone_matrices(animation);
+        self.set = (n, animation.palette_count(), w);
         Ok(())
     }
 
@@ -156,16 +162,37 @@ impl<'s> Pose<'s> {
         }
     }
 
+    /// Each skin's bone matrices, after the nodes: `World(bone node) · inverse bind` (glam's
+    /// order for Babylon's `inverse bind · World`).
+    fn bone_matrices(&mut self, animation: &Animation<'_>) {
+        let n = animation.node_count();
+        for skin in (0..animation.skin_count()).filter_map(|i| animation.skin_at(i)) {
+            for (b, slot) in skin.palette().enumerate() {
+                let world = skin.bone_node(b).and_then(|node| self.nodes.get(node).copied()).unwrap_or(Mat4::IDENTITY);
+                if let Some(m) = self.nodes.get_mut(n + slot) {
+                    *m = world * skin.inverse_bind(b);
+                }
+            }
+        }
+    }
+
     /// The world matrix of animated node `node`, when the pose is set.
     #[must_use]
     pub fn node_world(&self, node: usize) -> Option<Mat4> {
         (node < self.set.0).then(|| self.nodes.get(node).copied()).flatten()
     }
 
+    /// The skins' bone matrices (a skin's are [`Skin::palette`] of these), when the pose is
+    /// set (empty otherwise).
+    #[must_use]
+    pub fn palette(&self) -> &[Mat4] {
+        self.nodes.get(self.set.0..self.set.0 + self.set.1).unwrap_or(&[])
+    }
+
     /// The morph weights, when the pose is set (empty otherwise).
     #[must_use]
     pub fn weights(&self) -> &[f32] {
-        self.weights.get(..self.set.1).unwrap_or(&[])
+        self.weights.get(..self.set.2).unwrap_or(&[])
     }
 }
 

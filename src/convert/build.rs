@@ -78,7 +78,7 @@ impl std::error::Error for BuildError {
 /// converter warning as `cargo:warning`. The output is written to a temporary file and renamed,
 /// so a failed build never leaves a partial `.s3d` behind. Beside it, `output` with the
 /// extension `rs` holds the constants a firmware sizes a [`Pose`](crate::animation::Pose)'s
-/// memory with (`POSE_NODES` matrices and `POSE_WEIGHTS` weights: see
+/// memory with (`POSE_MATRICES` matrices and `POSE_WEIGHTS` weights: see
 /// [`pose_memory`](crate::animation::pose_memory)), for `include!`.
 ///
 /// ```no_run
@@ -109,10 +109,12 @@ pub fn build_script_convert(
     }
     let bytes = emit(&scene, emit_opts).map_err(|source| BuildError::Emit { path: input.to_path_buf(), source })?;
     let a = &scene.animation;
-    let (nodes, weights) = crate::animation::pose_memory(a.nodes.len(), a.morphs.iter().map(|m| m.targets.len()).sum());
+    let bones = a.skins.iter().map(|s| s.bones.len()).sum();
+    let (nodes, weights) =
+        crate::animation::pose_memory(a.nodes.len(), bones, a.morphs.iter().map(|m| m.targets.len()).sum());
     let constants = std::format!(
         "// Written by soft3d::convert::build_script_convert for {}.\n\
-         /// Matrices a `soft3d::animation::Pose` of this scene needs.\npub const POSE_NODES: usize = {nodes};\n\
+         /// Matrices a `soft3d::animation::Pose` of this scene needs.\npub const POSE_MATRICES: usize = {nodes};\n\
          /// Morph weights a `soft3d::animation::Pose` of this scene needs.\npub const POSE_WEIGHTS: usize = {weights};\n",
         input.display()
     );
@@ -161,7 +163,7 @@ mod tests {
         build_script_convert(input, &output, &ConvertOptions::default(), &EmitOptions::default()).unwrap();
         let constants = std::fs::read_to_string(dir.join("cube.rs")).unwrap();
         // Two meshes of two morph targets each, no animated node.
-        assert!(constants.contains("pub const POSE_NODES: usize = 0;"), "{constants}");
+        assert!(constants.contains("pub const POSE_MATRICES: usize = 0;"), "{constants}");
         assert!(constants.contains("pub const POSE_WEIGHTS: usize = 4;"), "{constants}");
         std::fs::remove_dir_all(&dir).unwrap();
     }

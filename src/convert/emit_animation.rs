@@ -7,7 +7,7 @@ use std::string::String;
 use std::vec::Vec;
 
 use super::emit::{EmitError, Out};
-use super::scene::{self, AnimationData, Loop, NodeProperty, Rotation, Scene, TrackTarget};
+use super::scene::{self, AnimationData, Loop, NodeProperty, Rotation, Scene, SkinData, TrackTarget};
 use crate::animation::{Animation, TrackTarget as StoredTarget};
 use crate::format::layout::*;
 use crate::format::Model;
@@ -18,8 +18,11 @@ pub(super) fn emit_animation(out: &mut Out, scene: &Scene) -> Result<u32, EmitEr
     let a = &scene.animation;
     check_finite(a)?;
     let links_increase = a.links.windows(2).all(|w| w[0].mesh < w[1].mesh);
-    if !links_increase || !a.morphs.windows(2).all(|w| w[0].mesh < w[1].mesh) {
-        return Err(EmitError("animation: links and morphs must be in increasing mesh order, one a mesh".into()));
+    let skins_increase = a.skins.windows(2).all(|w| w[0].mesh < w[1].mesh);
+    if !links_increase || !skins_increase || !a.morphs.windows(2).all(|w| w[0].mesh < w[1].mesh) {
+        return Err(EmitError(
+            "animation: links, morphs and skins must be in increasing mesh order, one a mesh".into(),
+        ));
     }
     let count = |n: usize, what: &str| {
         u16::try_from(n).ok().filter(|&n| n != NONE).ok_or_else(|| EmitError(std::format!("too many {what}: {n}")))
@@ -33,6 +36,8 @@ pub(super) fn emit_animation(out: &mut Out, scene: &Scene) -> Result<u32, EmitEr
         (animation::TRACK_COUNT, count(a.tracks.len(), "tracks")?),
         (animation::GROUP_COUNT, count(a.groups.len(), "animation groups")?),
         (animation::WEIGHT_COUNT, count(weights, "morph targets")?),
+        (animation::SKIN_COUNT, count(a.skins.len(), "skins")?),
+        (animation::PALETTE_COUNT, count(a.skins.iter().map(|s| s.bones.len()).sum(), "skin bones")?),
     ];
     for (field, n) in counts {
         out.put_u16(at + field.start, n);
@@ -53,6 +58,8 @@ pub(super) fn emit_animation(out: &mut Out, scene: &Scene) -> Result<u32, EmitEr
     out.put_u32(at + animation::TRACKS.start, tracks);
     let groups = emit_groups(out, a)?;
     out.put_u32(at + animation::GROUPS.start, groups);
+    let skins = emit_skins(out, scene)?;
+    out.put_u32(at + animation::SKINS.start, skins);
     Ok(at as u32)
 }
 
@@ -79,7 +86,11 @@ fn check_finite(a: &AnimationData) -> Result<(), EmitError> {
     let groups = a.groups.iter().flat_map(|g| [g.from, g.to]);
     let links = a.links.iter().flat_map(|l| l.below);
     let fps = a.tracks.iter().map(|t| t.fps);
-    if nodes.chain(keys).chain(morphs).chain(groups).chain(links).chain(fps).all(f32::is_finite) {
+    let skins = a
+        .skins
+        .iter()
+        .flat_map(|s| s.bones.iter().flat_map(|b| b.inverse_bind).chain(s.vertices.iter().flat_map(|(_, w)| *w)));
+    if nodes.chain(keys).chain(morphs).chain(groups).chain(links).chain(fps).chain(skins).all(f32::is_finite) {
         Ok(())
     } else {
         Err(EmitError("animation: non-finite number".into()))
@@ -229,6 +240,46 @@ fn emit_tracks(out: &mut Out, a: &AnimationData) -> Result<u32, EmitError> {
     Ok(table as u32)
 }
 
+fn emit_skins(out: &mut Out, scene: &Scene) -> Result<u32, EmitError> {
+    let a = &scene.animation;
+    let table = out.reserve(skin::LEN * a.skins.len());
+    let mut first = 0usize;
+    for (k, s) in a.skins.iter().enumerate() {
+        let r = table + k * skin::LEN;
+        let nv = scene.meshes.get(s.mesh as usize).map_or(0, |m| m.positions.len());
+        let bad = |what: &str| EmitError(std::format!("skin {k} (mesh {}): {what}", s.mesh));
+        if s.bones.is_empty() || s.bones.len() > 256 || s.vertices.len() != nv {
+            return Err(bad("1 to 256 bones and one influence record a vertex"));
+        }
+        if s.bones.iter().any(|b| b.node as usize >= a.nodes.len())
+            || s.vertices.iter().any(|(b, _)| b.iter().any(|&b| b as usize >= s.bones.len()))
+        {
+            return Err(bad("a bone out of range"));
+        }
+        out.put_u16(r + skin::MESH.start, s.mesh);
+        out.put_u16(r + skin::BONE_COUNT.start, s.bones.len() as u16);
+        out.put_u16(r + skin::FIRST_SLOT.start, first as u16);
+        first += s.bones.len();
+        let bones = out.reserve(skin::BONE_LEN * s.bones.len());
+        out.put_u32(r + skin::BONES.start, bones as u32);
+        for (b, bone) in s.bones.iter().enumerate() {
+            out.put_u16(bones + b * skin::BONE_LEN + skin::BONE_NODE.start, bone.node);
+            out.put_affine(bones + b * skin::BONE_LEN + skin::BONE_INVERSE_BIND.start, &bone.inverse_bind);
+        }
+        let vertices: Vec<u8> = s
+            .vertices
+            .iter()
+            .flat_map(|(b, w)| {
+                let q = w.map(|w| (libm::roundf(w.clamp(0.0, 1.0) * 65535.0) as u16).to_le_bytes());
+                b.iter().copied().chain(q.into_iter().flatten()).collect::<Vec<u8>>()
+            })
+            .collect();
+        let o = out.append(&vertices);
+        out.put_u32(r + skin::VERTICES.start, o);
+    }
+    Ok(table as u32)
+}
+
 fn emit_groups(out: &mut Out, a: &AnimationData) -> Result<u32, EmitError> {
     let table = out.reserve(group::LEN * a.groups.len());
     for (k, g) in a.groups.iter().enumerate() {
@@ -300,7 +351,24 @@ pub(super) fn read_animation(model: &Model<'_>) -> AnimationData {
             a.link_of(m).map(|(node, below)| scene::MeshLink { mesh: m as u16, node: node as u16, below: cols(below) })
         })
         .collect();
-    AnimationData { nodes, links, morphs: read_morphs(model, &a), tracks: read_tracks(&a), groups: read_groups(&a) }
+    let (morphs, tracks, groups) = (read_morphs(model, &a), read_tracks(&a), read_groups(&a));
+    AnimationData { nodes, links, morphs, tracks, groups, skins: read_skins(model, &a) }
+}
+
+fn read_skins(model: &Model<'_>, a: &Animation<'_>) -> Vec<SkinData> {
+    (0..a.skin_count())
+        .filter_map(|i| a.skin_at(i))
+        .map(|s| {
+            let n = model.mesh(s.mesh()).map_or(0, |m| m.vertex_count());
+            let bones = (0..s.bone_count())
+                .map(|b| scene::SkinBone {
+                    node: s.bone_node(b).unwrap_or(0) as u16,
+                    inverse_bind: s.inverse_bind(b).to_cols_array(),
+                })
+                .collect();
+            SkinData { mesh: s.mesh() as u16, bones, vertices: (0..n).map(|i| s.influences(i)).collect() }
+        })
+        .collect()
 }
 
 fn read_morphs(model: &Model<'_>, a: &Animation<'_>) -> Vec<scene::MorphData> {

@@ -49,6 +49,8 @@ pub struct AnimationData {
     pub links: Vec<MeshLink>,
     /// Meshes with morph targets.
     pub morphs: Vec<MorphData>,
+    /// Skinned meshes: the bones (nodes) that move their vertices.
+    pub skins: Vec<SkinData>,
     /// Every animation track (of nodes and of morph target influences).
     pub tracks: Vec<TrackData>,
     /// Named sets of tracks played together (`animationGroups`, and one group for the tracks
@@ -61,7 +63,7 @@ impl AnimationData {
     /// True when nothing moves.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.tracks.is_empty() && self.morphs.is_empty()
+        self.tracks.is_empty() && self.morphs.is_empty() && self.skins.is_empty()
     }
 }
 
@@ -100,6 +102,31 @@ pub struct MeshLink {
     pub node: u16,
     /// The still nodes between the mesh and the node (see [`AnimationData`]).
     pub below: Matrix,
+}
+
+/// A skinned mesh: Babylon.js's linear blend skinning, `p' = Σ wᵢ · p · Sᵢ` (then the mesh's
+/// world matrix) with `Sᵢ = inverse_bind · World(bone node)`, bones being nodes in the mesh's
+/// own space (a root bone's `above` is the identity).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SkinData {
+    /// Index into [`Scene::meshes`].
+    pub mesh: u16,
+    /// The palette: what each vertex's bone indices name.
+    pub bones: Vec<SkinBone>,
+    /// One a vertex: four bone indices (into `bones`) and their weights.
+    pub vertices: Vec<Influence>,
+}
+
+/// A skinned vertex's four bones (indices into [`SkinData::bones`]) and their weights.
+pub type Influence = ([u8; 4], [f32; 4]);
+
+/// A bone of a skin's palette.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SkinBone {
+    /// Index into [`AnimationData::nodes`]: the bone's node.
+    pub node: u16,
+    /// The inverse of the bone's absolute bind matrix.
+    pub inverse_bind: Matrix,
 }
 
 /// A mesh's morph targets.

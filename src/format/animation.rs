@@ -52,6 +52,13 @@ pub struct Group<'a> {
     at: usize,
 }
 
+/// A skinned mesh: its bones (palette) and each vertex's four bones and weights.
+#[derive(Clone, Copy, Debug)]
+pub struct Skin<'a> {
+    data: &'a [u8],
+    at: usize,
+}
+
 /// A mesh's morph targets.
 #[derive(Clone, Copy, Debug)]
 pub struct Morph<'a> {
@@ -114,6 +121,7 @@ impl<'a> Animation<'a> {
         a.validate_morphs(&vertices)?;
         a.validate_tracks()?;
         a.validate_groups()?;
+        a.validate_skins(&vertices)?;
         Ok(a)
     }
 
@@ -203,6 +211,39 @@ impl<'a> Animation<'a> {
         if normals {
             let normals = at + morph_target::NORMALS.start;
             records(d, u32_at(d, normals), deltas, Part::Morph, normals)?;
+        }
+        Ok(())
+    }
+
+    fn validate_skins(&self, vertices: &impl Fn(usize) -> Option<u32>) -> Result<(), ParseError> {
+        let d = self.data;
+        let skins = self.table(animation::SKINS, animation::SKIN_COUNT, skin::LEN, Part::Skin)?;
+        let meshes = (0..).take_while(|&m| vertices(m).is_some()).count();
+        let mut last = None;
+        for at in skins.step_by(skin::LEN) {
+            let mesh = reference(d, at + skin::MESH.start, meshes, Part::Skin)?;
+            if last.is_some_and(|l| l >= mesh) {
+                return Err(invalid(Part::Skin, at));
+            }
+            last = Some(mesh);
+            let (bones, first) = (u16_at(d, at + skin::BONE_COUNT.start), u16_at(d, at + skin::FIRST_SLOT.start));
+            if bones == 0 || first as usize + bones as usize > self.palette_count() {
+                return Err(invalid(Part::Skin, at + skin::BONE_COUNT.start));
+            }
+            let bones_at = at + skin::BONES.start;
+            let table = records(d, u32_at(d, bones_at), (bones as usize, skin::BONE_LEN), Part::Skin, bones_at)?;
+            for b in table.step_by(skin::BONE_LEN) {
+                reference(d, b + skin::BONE_NODE.start, self.node_count(), Part::Skin)?;
+                finite(d, b + skin::BONE_INVERSE_BIND.start..b + skin::BONE_LEN, Part::Skin)?;
+            }
+            let nv = vertices(mesh).unwrap_or(0) as usize;
+            let vertices_at = at + skin::VERTICES.start;
+            let list = records(d, u32_at(d, vertices_at), (nv, skin::VERTEX_LEN), Part::Skin, vertices_at)?;
+            for v in list.step_by(skin::VERTEX_LEN) {
+                if (0..4).any(|k| u16::from(u8_at(d, v + k)) >= bones) {
+                    return Err(invalid(Part::Skin, v));
+                }
+            }
         }
         Ok(())
     }
@@ -316,6 +357,31 @@ impl<'a> Animation<'a> {
     #[must_use]
     pub fn morph_count(&self) -> usize {
         self.count(animation::MORPH_COUNT)
+    }
+
+    /// Number of skinned meshes.
+    #[must_use]
+    pub fn skin_count(&self) -> usize {
+        self.count(animation::SKIN_COUNT)
+    }
+
+    /// Number of bone matrices in a pose's palette (every skin's bones).
+    #[must_use]
+    pub fn palette_count(&self) -> usize {
+        self.count(animation::PALETTE_COUNT)
+    }
+
+    /// Skinned mesh `i` of [`Animation::skin_count`].
+    #[must_use]
+    pub fn skin_at(&self, i: usize) -> Option<Skin<'a>> {
+        let at = self.record(animation::SKINS, animation::SKIN_COUNT, skin::LEN, i)?;
+        Some(Skin { data: self.data, at })
+    }
+
+    /// The skin of mesh `mesh`, if it has one.
+    #[must_use]
+    pub fn skin_of(&self, mesh: usize) -> Option<Skin<'a>> {
+        (0..self.skin_count()).filter_map(|i| self.skin_at(i)).find(|s| s.mesh() == mesh)
     }
 
     /// Number of meshes linked to animated nodes.
@@ -594,50 +660,49 @@ impl<'a> Morph<'a> {
     }
 }
 
-/// A morphed mesh's targets with their weights in a pose: what [`Arrays`](super::Arrays) adds
-/// to each vertex it reads.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Morphing<'a> {
-    pub(crate) morph: Morph<'a>,
-    /// One a target.
-    pub(crate) weights: &'a [f32],
-}
-
-impl Morphing<'_> {
-    /// The weighted sum of vertex `i`'s position (or normal) deltas; targets weighing 0 skipped.
-    /// Out of line and cold, as the other two: the draws of still meshes test for a morph and
-    /// go on (their vertex loops stay as they were).
-    #[cold]
-    #[inline(never)]
-    pub(crate) fn sum(&self, i: u32, normal: bool) -> Vec3 {
-        let mut sum = Vec3::ZERO;
-        for (t, &w) in self.weights.iter().enumerate() {
-            if w != 0.0 {
-                sum += self.morph.delta(t, i, normal) * w;
-            }
-        }
-        sum
-    }
-}
-
-impl Morphing<'_> {
-    /// Vertex `i`'s normal `n` with the normal deltas added, normalised (as Babylon.js's
-    /// shader does); `n` itself when the targets move no normals.
-    #[cold]
-    #[inline(never)]
-    pub(crate) fn normal(&self, n: Vec3, i: u32) -> Vec3 {
-        if self.morph.has_normals() {
-            crate::math::normalize_or_zero(n + self.sum(i, true))
-        } else {
-            n
-        }
+impl Skin<'_> {
+    /// The mesh it skins.
+    #[must_use]
+    pub fn mesh(&self) -> usize {
+        u16_at(self.data, self.at + skin::MESH.start) as usize
     }
 
-    /// A unit normal quantized as stored ([`NORMAL_ONE`] for 1, rounded).
-    #[cold]
-    #[inline(never)]
-    pub(crate) fn normal_q(&self, n: Vec3) -> [i16; 3] {
-        let n = n * NORMAL_ONE;
-        [n.x, n.y, n.z].map(|c| crate::math::to_i32(c + if c < 0.0 { -0.5 } else { 0.5 }) as i16)
+    /// Number of bones (>= 1).
+    #[must_use]
+    pub fn bone_count(&self) -> usize {
+        u16_at(self.data, self.at + skin::BONE_COUNT.start) as usize
+    }
+
+    /// Its bones' matrices in a pose's palette: `first..first + bone_count`.
+    #[must_use]
+    pub fn palette(&self) -> Range<usize> {
+        let first = u16_at(self.data, self.at + skin::FIRST_SLOT.start) as usize;
+        first..first + self.bone_count()
+    }
+
+    fn bone_at(&self, b: usize) -> Option<usize> {
+        (b < self.bone_count()).then(|| u32_at(self.data, self.at + skin::BONES.start) as usize + b * skin::BONE_LEN)
+    }
+
+    /// Bone `b`'s node (an index for [`Animation::node`]), `None` past the last bone.
+    #[must_use]
+    pub fn bone_node(&self, b: usize) -> Option<usize> {
+        self.bone_at(b).map(|at| u16_at(self.data, at + skin::BONE_NODE.start) as usize)
+    }
+
+    /// Bone `b`'s inverse bind matrix (identity past the last bone).
+    #[must_use]
+    pub fn inverse_bind(&self, b: usize) -> Mat4 {
+        self.bone_at(b).map_or(Mat4::IDENTITY, |at| affine_at(self.data, at + skin::BONE_INVERSE_BIND.start))
+    }
+
+    /// Vertex `i`'s four bones and weights (zero weights past the last vertex).
+    #[must_use]
+    pub fn influences(&self, i: u32) -> ([u8; 4], [f32; 4]) {
+        let at = (u32_at(self.data, self.at + skin::VERTICES.start) as usize)
+            .saturating_add((i as usize).saturating_mul(skin::VERTEX_LEN));
+        let bones = core::array::from_fn(|k| u8_at(self.data, at.saturating_add(k)));
+        let weights = core::array::from_fn(|k| f32::from(u16_at(self.data, at.saturating_add(4 + 2 * k))) / 65535.0);
+        (bones, weights)
     }
 }

@@ -48,6 +48,8 @@ pub enum Part {
     Track,
     /// An animation group's record, track list or name.
     Group,
+    /// A skin record, its bones or its vertices' influences.
+    Skin,
 }
 
 impl fmt::Display for Part {
@@ -73,6 +75,7 @@ impl fmt::Display for Part {
             Part::Morph => "morph target data",
             Part::Track => "animation track",
             Part::Group => "animation group",
+            Part::Skin => "skin",
         };
         f.write_str(name)
     }

@@ -83,10 +83,11 @@
 //! the converter writes version 1 for a still scene, so that its files read everywhere). What the records mean is `convert::scene`'s
 //! `AnimationData`: animated nodes, the meshes that follow them, morph targets, tracks, groups.
 //!
-//! **Animation section** (32 bytes): 0..2 u16 node count, 2..4 u16 link count, 4..6 u16 morph
+//! **Animation section** (40 bytes): 0..2 u16 node count, 2..4 u16 link count, 4..6 u16 morph
 //! count, 6..8 u16 track count, 8..10 u16 group count, 10..12 u16 morph weight count (all
 //! meshes' targets), then u32 offsets of the node (12..16), link (16..20), morph (20..24),
-//! track (24..28) and group (28..32) tables.
+//! track (24..28) and group (28..32) tables, 32..34 u16 skin count, 34..36 u16 palette count
+//! (all skins' bones), 36..40 u32 offset of the skin table.
 //!
 //! **Node** (92 bytes): 0..2 u16 parent node ([`NONE`] or a lower index), 2..4 u16 flags (bit
 //! 0: the rotation is a quaternion), 4..16 3 x f32 position, 16..32 4 x f32 rotation (Euler x,
@@ -118,6 +119,13 @@
 //! **Key** (`8 + 4 x count`, or `8 + 12 x count` with tangents): 0..4 f32 frame (keys in
 //! increasing order, equal frames allowed), 4..8 u32 flags (bit 0: step), the values, then
 //! the in and out tangents.
+//!
+//! **Skin** (16 bytes, in increasing mesh order): 0..2 u16 mesh, 2..4 u16 bone count (>= 1),
+//! 4..6 u16 first palette slot (its bones' matrices are `first..first + count` of a pose's
+//! palette, inside the palette count), 8..12 u32 offset of its bone records, 12..16 u32 offset
+//! of its vertices. **Bone** (52 bytes): 0..2 u16 node, 4..52 the inverse bind matrix (as a
+//! mesh's world matrix). **Skinned vertex** (12 bytes, one a mesh vertex): 0..4 four u8 bone
+//! indices (< the bone count), 4..12 four u16 weights (`q / 65535`).
 //!
 //! **Group** (24 bytes): 0..4 f32 from, 4..8 f32 to (>= from), 8..10 u16 track count, 10 u8
 //! flags (bit 0: loops), 12..16 u32 offset of its track indices (u16 each, < the track count),
@@ -170,7 +178,10 @@ pub(crate) mod animation {
     pub const MORPHS: Range<usize> = 20..24;
     pub const TRACKS: Range<usize> = 24..28;
     pub const GROUPS: Range<usize> = 28..32;
-    pub const LEN: usize = 32;
+    pub const SKIN_COUNT: Range<usize> = 32..34;
+    pub const PALETTE_COUNT: Range<usize> = 34..36;
+    pub const SKINS: Range<usize> = 36..40;
+    pub const LEN: usize = 40;
 }
 
 pub(crate) mod node {
@@ -214,6 +225,21 @@ pub(crate) mod morph_target {
     pub const LEN: usize = 20;
     /// One delta: 3 x i16.
     pub const DELTA_LEN: usize = 6;
+}
+
+pub(crate) mod skin {
+    use core::ops::Range;
+    pub const MESH: Range<usize> = 0..2;
+    pub const BONE_COUNT: Range<usize> = 2..4;
+    pub const FIRST_SLOT: Range<usize> = 4..6;
+    pub const BONES: Range<usize> = 8..12;
+    pub const VERTICES: Range<usize> = 12..16;
+    pub const LEN: usize = 16;
+    pub const BONE_NODE: Range<usize> = 0..2;
+    pub const BONE_INVERSE_BIND: Range<usize> = 4..52;
+    pub const BONE_LEN: usize = 52;
+    /// A skinned vertex: four u8 bone indices, four u16 weights.
+    pub const VERTEX_LEN: usize = 12;
 }
 
 pub(crate) mod track {

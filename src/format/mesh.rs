@@ -4,7 +4,7 @@
 
 use core::ops::Range;
 
-use super::animation::Morphing;
+use super::deform::Deforming;
 use super::layout::*;
 use super::model::WorldAt;
 use crate::math::{Mat4, Vec3};
@@ -239,8 +239,8 @@ impl<'a> Mesh<'a> {
 /// Out-of-range reads give zero, like every accessor here.
 #[derive(Clone, Copy, Debug)]
 pub struct Arrays<'a> {
-    /// A pose's morph targets (see `Arrays::morphed`): added to every position and normal read.
-    morph: Option<&'a Morphing<'a>>,
+    /// A pose's deformation (see `Arrays::morphed`): applied to every position and normal read.
+    morph: Option<&'a Deforming<'a>>,
     positions: Positions<'a>,
     normals: &'a [[u8; NORMAL_LEN]],
     uvs: Option<&'a [[u8; UV_LEN]]>,
@@ -275,7 +275,7 @@ impl<'a> Arrays<'a> {
     /// These arrays with `morph`'s deltas added to every position and normal read (normals
     /// then normalised, as Babylon.js's shader does).
     #[must_use]
-    pub(crate) fn morphed(self, morph: &'a Morphing<'a>) -> Self {
+    pub(crate) fn morphed(self, morph: &'a Deforming<'a>) -> Self {
         Arrays { morph: Some(morph), ..self }
     }
 
@@ -299,7 +299,7 @@ impl<'a> Arrays<'a> {
                 .map_or(Vec3::ZERO, |r| Vec3::new(u16_at(r, 0) as f32, u16_at(r, 2) as f32, u16_at(r, 4) as f32)),
         };
         match self.morph.filter(|_| MORPHS) {
-            Some(m) => p + m.sum(i, false),
+            Some(m) => m.position(p, i),
             None => p,
         }
     }

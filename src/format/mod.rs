@@ -6,7 +6,8 @@
 //!   the host converter writes with the same constants.
 //! - `model`: [`Model`], its validation and its per-file records.
 //! - `mesh`: [`Mesh`] and its vertex and index [`Arrays`].
-//! - `animation`: the animation section's validation and [`Animation`] views.
+//! - `animation`: the animation section's validation and [`Animation`] views; `deform`: how a
+//!   pose moves a mesh's vertices as [`Arrays`] reads them.
 //! - `texel`: [`TextureFormat`], [`Texture`] and the texel codecs.
 //! - `error`: [`ParseError`].
 //!
@@ -14,14 +15,15 @@
 //! (the host-only `convert` module does).
 
 mod animation;
+mod deform;
 mod error;
 pub(crate) mod layout;
 mod mesh;
 mod model;
 mod texel;
 
-pub(crate) use animation::Morphing;
-pub use animation::{Animation, Group, Morph, Node, Track, TrackTarget};
+pub use animation::{Animation, Group, Morph, Node, Skin, Track, TrackTarget};
+pub(crate) use deform::Deforming;
 pub use error::{ParseError, Part};
 pub use layout::{LightKind, Wrap, MAGIC, NONE, NORMAL_ONE, QUANT_MAX, VERSION};
 pub(crate) use mesh::U16Triangles;

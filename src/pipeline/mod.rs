@@ -496,13 +496,13 @@ fn transform_and_draw<C: FrameColor, D: DepthBuffer, const L: usize>(
     let Some((world, flip)) = Transforms::placement(ctx, mesh, place, test_view) else {
         return Transformed::OutOfView;
     };
-    let morphing = ctx.frame.posed.as_ref().and_then(|p| p.morphing(mesh.mesh_index()));
-    let transforms = Transforms::new(ctx, mesh, &world, morphing.is_some());
+    let deforming = ctx.frame.posed.as_ref().and_then(|p| p.deforming(model, mesh.mesh_index()));
+    let transforms = Transforms::new(ctx, mesh, &world, deforming.as_ref());
     // The cache holds one set of texel coordinates, and nothing Phong needs.
     let scale = uniform_texel_scale(ctx, model, mesh).filter(|_| ctx.opts.shading != Shading::Phong);
     let mut setup = DrawSetup::new(*mesh, &transforms, flip);
-    if let Some(morphing) = &morphing {
-        setup.arrays = setup.arrays.morphed(morphing);
+    if let Some(deforming) = &deforming {
+        setup.arrays = setup.arrays.morphed(deforming);
     }
     let mut filled_unclipped = false;
     if let Some((cache, scale)) = cache.zip(scale) {

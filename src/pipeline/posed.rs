@@ -5,7 +5,7 @@
 
 use super::scratch::Digest;
 use crate::animation::{Animation, Pose};
-use crate::format::{Model, Morphing, WorldAt};
+use crate::format::{Deforming, Model, WorldAt};
 use crate::math::Mat4;
 
 /// A set pose of a model's animation.
@@ -22,17 +22,23 @@ impl<'p> Posed<'p> {
         Some(self.pose.node_world(node)? * below)
     }
 
-    /// Mesh `mesh`'s morph targets with their weights, when it has some.
-    pub(crate) fn morphing(&self, mesh: usize) -> Option<Morphing<'p>> {
-        let morph = self.animation.morph_of(mesh)?;
-        let weights = self.pose.weights().get(morph.weights())?;
-        Some(Morphing { morph, weights })
+    /// How the pose moves mesh `mesh`'s vertices (morph targets, skin), when it does.
+    pub(crate) fn deforming(&self, model: &Model<'p>, mesh: usize) -> Option<Deforming<'p>> {
+        let morph = self.animation.morph_of(mesh).and_then(|m| Some((m, self.pose.weights().get(m.weights())?)));
+        let skin = self.animation.skin_of(mesh).and_then(|s| {
+            let palette = self.pose.palette().get(s.palette())?;
+            Some((s, palette, model.mesh(mesh)?.dequantization()))
+        });
+        (morph.is_some() || skin.is_some()).then_some(Deforming { morph, skin })
     }
 
     /// Mixes the pose into `digest` (a scratch's rows and vertices depend on it).
     pub(crate) fn digest(&self, digest: u64) -> u64 {
         let mut d = Digest::resume(digest);
         d.floats(self.pose.weights());
+        for m in self.pose.palette() {
+            d.floats(&m.to_cols_array());
+        }
         for node in 0..self.animation.node_count() {
             if let Some(m) = self.pose.node_world(node) {
                 d.floats(&m.to_cols_array());

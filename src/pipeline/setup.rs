@@ -5,7 +5,7 @@
 
 use super::scratch::DrawChunks;
 use super::{Context, GuardBand, TransformedVertex};
-use crate::format::{Arrays, Mesh};
+use crate::format::{Arrays, Deforming, Mesh};
 use crate::light::FixedLights;
 use crate::math::{normal_matrix, FixedTransform, Mat3, Mat4, Vec3};
 use crate::target::GUARD_HALF_EXTENT;
@@ -85,12 +85,17 @@ impl<const L: usize> Transforms<L> {
         projection: Projection { half: (1.0, 1.0), guard: GuardBand { gx: 1.0, gy: 1.0 } },
     };
 
-    /// The transforms of `mesh` placed by `world` (see [`Transforms::placement`]); `morphed`
-    /// meshes always in f32 (their positions move beyond the integer transform's sphere). Not
-    /// inlined: its matrix temporaries stay out of the caller's frame.
+    /// The transforms of `mesh` placed by `world` (see [`Transforms::placement`]); a mesh a
+    /// pose deforms always in f32 (its positions move beyond the integer transform's sphere),
+    /// a skinned one from local units (its arrays give them so). Not inlined: its matrix
+    /// temporaries stay out of the caller's frame.
     #[inline(never)]
-    pub(crate) fn new(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4, morphed: bool) -> Self {
-        let model_q = dequantized(world, mesh.dequantization());
+    pub(crate) fn new(ctx: &Context<'_, L>, mesh: &Mesh<'_>, world: &Mat4, deform: Option<&Deforming<'_>>) -> Self {
+        let morphed = deform.is_some();
+        let model_q = match deform.and_then(|d| d.skin) {
+            Some(_) => *world,
+            None => dequantized(world, mesh.dequantization()),
+        };
         let normals = normal_matrix(world);
         let (mvp, sphere) = (ctx.frame.vp * model_q, mesh.bounding_sphere());
         let fixed = (ctx.opts.fixed_vertices && !morphed).then_some(()).and_then(|()| {
@@ -129,7 +134,9 @@ impl<const L: usize> Transforms<L> {
         test_view: bool,
     ) -> Option<(Mat4, bool)> {
         let world = place();
-        if test_view && !sphere_visible(&ctx.frame.vp, &world, mesh.bounding_sphere()) {
+        // A skinned mesh's bones move its vertices anywhere: its rest sphere proves nothing.
+        let skinned = ctx.frame.posed.as_ref().is_some_and(|p| p.animation.skin_of(mesh.mesh_index()).is_some());
+        if test_view && !skinned && !sphere_visible(&ctx.frame.vp, &world, mesh.bounding_sphere()) {
             return None;
         }
         Some((world, Mat3::from_mat4(world).determinant() < 0.0))

@@ -52,11 +52,11 @@ pub(crate) fn draw_back_to_front<C: FrameColor, D: DepthBuffer, const L: usize>(
         let Some((placed, flip)) = Transforms::placement(ctx, &mesh, place, false) else {
             continue;
         };
-        let morphing = ctx.frame.posed.as_ref().and_then(|p| p.morphing(mesh.mesh_index()));
-        let transforms = Transforms::new(ctx, &mesh, &placed, morphing.is_some());
+        let deforming = ctx.frame.posed.as_ref().and_then(|p| p.deforming(model, mesh.mesh_index()));
+        let transforms = Transforms::new(ctx, &mesh, &placed, deforming.as_ref());
         let mut setup = DrawSetup::new(mesh, &transforms, flip);
-        if let Some(morphing) = &morphing {
-            setup.arrays = setup.arrays.morphed(morphing);
+        if let Some(deforming) = &deforming {
+            setup.arrays = setup.arrays.morphed(deforming);
         }
         let setup = &setup;
         for e in run {

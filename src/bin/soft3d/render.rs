@@ -149,7 +149,8 @@ pub(crate) fn draw_bands<C: FrameColor>(
     let mut scratch = Scratch::none().with_sort(&mut sort).with_rows(&mut rows).with_vertices(&mut cache);
     // The pose, once a thread: every band draws the same.
     let animation = scene.0.animation().filter(|_| view.pose.is_some());
-    let (nodes, weights) = animation.map_or((0, 0), |a| pose_memory(a.node_count(), a.weight_count()));
+    let (nodes, weights) =
+        animation.map_or((0, 0), |a| pose_memory(a.node_count(), a.palette_count(), a.weight_count()));
     let (mut node_memory, mut weight_memory) = (vec![Mat4::IDENTITY; nodes], vec![0.0f32; weights]);
     let mut pose = Pose::new(&mut node_memory, &mut weight_memory);
     if let (Some(a), Some((frame, group))) = (animation, view.pose) {

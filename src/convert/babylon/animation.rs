@@ -175,7 +175,7 @@ impl<'a> Reader<'a> {
         let (morphs, used) = self.morphs(&managers)?;
         let (tracks, groups) = self.number(read, &index, &used, &managers)?;
         self.warn_instances(&links, &morphs);
-        self.scene.animation = AnimationData { nodes, links, morphs, tracks, groups };
+        self.scene.animation = AnimationData { nodes, links, morphs, tracks, groups, skins: Vec::new() };
         Ok(())
     }
 
@@ -630,6 +630,20 @@ fn number_group(group: Group, numbered: &[Vec<u16>], ranges: &[(f32, f32)]) -> O
     Some(GroupData { name: group.name, from, to, looping: group.looping, tracks })
 }
 
+/// An animation's `loopBehavior` (see the module documentation), a note for a value it plays
+/// as another.
+pub(super) fn loop_behavior(anim: &Value, notes: &mut Vec<String>) -> Res<Loop> {
+    Ok(match count(anim, "loopBehavior", Some(1))? {
+        0 => Loop::Relative,
+        1 => Loop::Cycle,
+        2 => Loop::Constant,
+        n => {
+            notes.push(format!("loopBehavior {n} is played as 1 (cycle)"));
+            Loop::Cycle
+        }
+    })
+}
+
 /// The first and last frames of keys (in frame order, at least one).
 fn key_range(keys: &[KeyData]) -> (f32, f32) {
     (keys.first().map_or(0., |k| k.frame), keys.last().map_or(0., |k| k.frame))
@@ -692,15 +706,7 @@ fn parse_animation(anim: &Value, notes: &mut Vec<String>) -> Res<Parsed> {
     if fps <= 0.0 {
         return Ok(Err(format!("framePerSecond {fps} is not positive")));
     }
-    let looping = match count(anim, "loopBehavior", Some(1))? {
-        0 => Loop::Relative,
-        1 => Loop::Cycle,
-        2 => Loop::Constant,
-        n => {
-            notes.push(format!("loopBehavior {n} is played as 1 (cycle)"));
-            Loop::Cycle
-        }
-    };
+    let looping = loop_behavior(anim, notes)?;
     let quaternion = matches!(property, Property::Node { count: 4, .. });
     let keys = keys(anim, property.count(), quaternion, notes)?;
     if keys.is_empty() {

@@ -57,6 +57,7 @@ mod light;
 mod material;
 mod mesh;
 mod node;
+mod skeleton;
 mod texture;
 mod transform;
 mod unsupported;
@@ -179,6 +180,7 @@ pub fn read_babylon(
     let mut reader = Reader::new(&root, base_dir, file_name, opts)?;
     reader.read_meshes()?;
     reader.read_animation()?;
+    reader.read_skeletons()?;
     reader.read_lights()?;
     reader.read_camera()?;
     reader.warn_unsupported();

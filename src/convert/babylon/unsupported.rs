@@ -4,7 +4,7 @@
 //! A key counts when its value is not the default: not absent, `null`, `false`, zero or
 //! negative, empty, or all zeros (a black colour); a `skeletonId` counts from 0 (exporters
 //! write `-1` for "no skeleton"). Features soft3d does draw or play (node animations, morph
-//! targets) are read by the other modules; those it skips with a reason of their own (spot
+//! targets, skeletons) are read by the other modules; those it skips with a reason of their own (spot
 //! lights, hidden meshes, animated properties and data types it does not play) are warned
 //! about there.
 
@@ -49,12 +49,6 @@ const MATERIAL_MAPS: &[(&str, &str)] = &[
 ];
 
 const FEATURES: &[Feature] = &[
-    Feature {
-        name: "skeletons",
-        verb: "played",
-        keys: &[("", "skeletons"), ("meshes", "skeletonId")],
-        instead: "skinned meshes are drawn in their bind pose",
-    },
     Feature {
         name: "animations of the scene, cameras, lights and materials",
         verb: "played",
