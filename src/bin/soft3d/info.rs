@@ -1,5 +1,5 @@
 //! `soft3d info`'s animation lines: the groups (frames, loop, tracks and what their keys
-//! cost), the animated nodes and the morphed meshes with their targets' bytes.
+//! cost), the skinned meshes and the morphed meshes with their bytes.
 
 use soft3d::animation::{Animation, Track, TrackTarget};
 use soft3d::Model;
@@ -25,12 +25,14 @@ fn target_name(t: &Track<'_>) -> String {
 pub(crate) fn print_animation(model: &Model<'_>) {
     let Some(a) = model.animation() else { return };
     println!(
-        "  animation: {} groups, {} tracks, {} animated nodes, {} morphed meshes ({} targets)",
+        "  animation: {} groups, {} tracks, {} animated nodes and bones, {} morphed meshes ({} targets), {} skinned meshes ({} bones)",
         a.group_count(),
         a.track_count(),
         a.node_count(),
         a.morph_count(),
-        a.weight_count()
+        a.weight_count(),
+        a.skin_count(),
+        a.palette_count()
     );
     for g in (0..a.group_count()).filter_map(|g| a.group(g)) {
         let (from, to) = g.range();
@@ -56,6 +58,16 @@ pub(crate) fn print_animation(model: &Model<'_>) {
 }
 
 fn print_morphs(model: &Model<'_>, a: &Animation<'_>) {
+    for s in (0..a.skin_count()).filter_map(|i| a.skin_at(i)) {
+        let vertices = model.mesh(s.mesh()).map_or(0, |mesh| mesh.vertex_count() as usize);
+        println!(
+            "    skin of mesh {}: {} bones (palette {:?}), {} bytes",
+            s.mesh(),
+            s.bone_count(),
+            s.palette(),
+            16 + 52 * s.bone_count() + 12 * vertices
+        );
+    }
     for m in (0..a.morph_count()).filter_map(|i| a.morph_at(i)) {
         let vertices = model.mesh(m.mesh()).map_or(0, |mesh| mesh.vertex_count() as usize);
         let per_target = 20 + 6 * vertices * if m.has_normals() { 2 } else { 1 };
