@@ -15,6 +15,11 @@
 # Then riscv32imc (riscv32imc-unknown-none-elf, release, on qemu-system-riscv32's virt machine with
 # -bios none), which draws like thumbv6m (no FPU): its frame must equal out/qemu-frame-m0.rgb565
 # byte for byte. Skipped, with a message, without qemu-system-riscv32 (Debian: qemu-system-misc).
+# Last, the animated rabbit (feature `rabbit`: ../shared/assets/rabbit/Rabbit.babylon beside the
+# repository, posed at frame 50 and drawn with Renderer::draw_posed) on both ARM machines, release:
+# QEMU exits 0, the JSON line is printed, the frame file is 240x240x2 bytes. Frames:
+# out/qemu-frame-rabbit-m4.rgb565 and out/qemu-frame-rabbit-m0.rgb565, which tests/qemu_frame.rs
+# checks are bit-identical to the host's rendering of the same posed frame.
 #
 # Needs: rustup targets thumbv7em-none-eabihf, thumbv6m-none-eabi and riscv32imc-unknown-none-elf,
 # qemu-system-arm (and qemu-system-riscv32 for the riscv32imc check).
@@ -137,7 +142,51 @@ for config in "${configs[@]}"; do
 done
 rm -f "$out/qemu-frame.rgb565"
 
+# The animated rabbit (feature `rabbit`), release, on both ARM machines.
+rabbit_scene="$root/../shared/assets/rabbit/Rabbit.babylon"
+rabbit_configs=("${configs[@]}")
+if [ ! -f "$rabbit_scene" ]; then
+    echo "FAIL: rabbit: $rabbit_scene not found (the firmware converts it at build time)" >&2
+    failed=1
+    rabbit_configs=()
+fi
+for config in "${rabbit_configs[@]}"; do
+    read -r target machine cpu suffix _ <<<"$config"
+    echo "== rabbit (posed, frame 50), $target on $machine ($cpu)"
+    (cd "$fw" && cargo build --release --quiet --target "$target" --features rabbit)
+    frame="$out/qemu-frame-rabbit-$suffix.rgb565"
+    rm -f "$out/qemu-frame.rgb565" "$frame"
+    run_firmware "$fw/target/$target/release/soft3d-qemu" "$machine" "$cpu" 300
+    json="$JSON" status="$STATUS"
+    if [ "$status" -ne 0 ]; then
+        echo "FAIL: rabbit, $target: QEMU exited with status $status (124 = timed out)" >&2
+        failed=1
+        continue
+    fi
+    line="$(grep -m1 '^{"frame"' <<<"$json" || true)"
+    covered="$(sed -n 's/.*"covered":\([0-9]*\).*/\1/p' <<<"$line")"
+    if [ -z "$line" ]; then
+        echo "FAIL: rabbit, $target: no JSON statistics line" >&2
+        failed=1
+    elif [ "${covered:-0}" -eq 0 ]; then
+        echo "FAIL: rabbit, $target: the frame covers no pixel" >&2
+        failed=1
+    fi
+    if [ ! -f "$out/qemu-frame.rgb565" ]; then
+        echo "FAIL: rabbit, $target: no frame written" >&2
+        failed=1
+        continue
+    fi
+    mv "$out/qemu-frame.rgb565" "$frame"
+    size="$(wc -c <"$frame")"
+    if [ "$size" -ne "$frame_bytes" ]; then
+        echo "FAIL: rabbit, $target: $frame has $size bytes, expected $frame_bytes" >&2
+        failed=1
+    fi
+done
+
 echo "frames: $out/qemu-frame-m4.rgb565 $out/qemu-frame-m0.rgb565"
+echo "rabbit frames: $out/qemu-frame-rabbit-m4.rgb565 $out/qemu-frame-rabbit-m0.rgb565"
 if [ "$failed" -ne 0 ]; then
     echo "qemu-check: FAILED" >&2
     exit 1

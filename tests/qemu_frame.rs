@@ -93,3 +93,97 @@ fn qemu_frames_equal_the_host_frame() {
     }
     println!("{compared} QEMU frame(s) bit-identical to the host's");
 }
+
+/// The rabbit firmware's scene (examples/qemu, feature `rabbit`): `../shared/assets/rabbit`.
+fn rabbit_path() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets/rabbit/Rabbit.babylon")
+}
+
+/// The rabbit firmware's conversion (its build.rs): Babylon's UV origin, 64-texel texture,
+/// exact (f32) positions or (`float_positions` false, FPU-less targets) 16-bit ones.
+fn rabbit_model_bytes(float_positions: bool) -> Vec<u8> {
+    let opts = ConvertOptions { max_texture: Some(64), ..Default::default() };
+    let (scene, _) = read_babylon_file(&rabbit_path(), &opts).unwrap();
+    emit(&scene, &EmitOptions { float_positions, ..Default::default() }).unwrap()
+}
+
+/// The rabbit firmware's frame: posed at frame 50 of every group, seen from (40, 55, -75)
+/// looking at (0, 30, 5) (vertical fov 0.8, near 1, far 1000, 240x240), lit by a white
+/// directional light along (0.3, -0.6, 0.7) and no ambient, drawn in 8 bands of 30 rows with
+/// `opts`.
+fn render_rabbit(model: &Model<'_>, opts: &soft3d::RenderOptions) -> (Vec<Rgb565>, usize) {
+    use soft3d::animation::{pose_memory, Pose};
+    use soft3d::{Camera, Lights, Mat4, Vec3};
+    let (w, h) = (reference::WIDTH, reference::HEIGHT);
+    let camera = Camera::perspective(
+        Vec3::new(40.0, 55.0, -75.0),
+        Vec3::new(0.0, 30.0, 5.0),
+        0.8,
+        f32::from(w) / f32::from(h),
+        1.0,
+        1000.0,
+    )
+    .unwrap();
+    let mut lights = Lights::<1>::new(Vec3::ZERO);
+    lights.push(Lights::<1>::directional(Vec3::new(0.3, -0.6, 0.7), 1.0)).unwrap();
+    let a = model.animation().expect("the rabbit is animated");
+    let (m, wt) = pose_memory(a.node_count(), a.palette_count(), a.weight_count());
+    let (mut matrices, mut weights) = (vec![Mat4::IDENTITY; m], vec![0.0f32; wt]);
+    let mut pose = Pose::new(&mut matrices, &mut weights);
+    pose.evaluate(&a, 50.0, None).unwrap();
+    let renderer = soft3d::Renderer::new(&camera, &lights, *opts);
+    let rows = 30usize;
+    let mut color = vec![Rgb565::BLACK; usize::from(w) * usize::from(h)];
+    let mut depth = vec![0u16; color.len()];
+    let band_len = rows * usize::from(w);
+    for (k, (c, z)) in color.chunks_mut(band_len).zip(depth.chunks_mut(band_len)).enumerate() {
+        let mut band = Band::new(c, z, w, h, (k * rows) as u16).unwrap();
+        band.clear(Rgb565::BLACK);
+        renderer.draw_posed(&mut band, model, &pose, Mat4::IDENTITY, &mut soft3d::Scratch::none()).unwrap();
+    }
+    let covered = depth.iter().filter(|&&d| d != u16::MAX).count();
+    (color, covered)
+}
+
+/// The posed rabbit frames the QEMU firmwares wrote (feature `rabbit`, scripts/qemu-check.sh)
+/// are bit-identical to the host's rendering of the same model bytes with the same options.
+#[test]
+fn qemu_rabbit_frames_equal_the_host_frame() {
+    let required = std::env::var_os("SOFT3D_REQUIRE_QEMU").is_some();
+    if !rabbit_path().exists() {
+        assert!(!required, "{} missing", rabbit_path().display());
+        println!("skipped: {} is absent", rabbit_path().display());
+        return;
+    }
+    let mut compared = 0;
+    for (name, fpu) in [("qemu-frame-rabbit-m4.rgb565", true), ("qemu-frame-rabbit-m0.rgb565", false)] {
+        let bytes = rabbit_model_bytes(fpu);
+        let model = Model::parse(&bytes).unwrap();
+        let opts = soft3d::RenderOptions { fixed_vertices: !fpu, ..reference::options() };
+        let (host, covered) = render_rabbit(&model, &opts);
+        let host_bytes: Vec<u8> = host.iter().flat_map(|c| RawU16::from(*c).into_inner().to_le_bytes()).collect();
+        println!("{name}: host covers {covered} pixels, hash {:016x}", fnv1a(&host_bytes));
+        assert!(covered > 0, "{name}: the host frame is empty");
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("out").join(name);
+        let Ok(qemu) = std::fs::read(&path) else {
+            assert!(!required, "{} missing: run scripts/qemu-check.sh first", path.display());
+            println!("skipped {name}: run scripts/qemu-check.sh to produce it");
+            continue;
+        };
+        assert_eq!(qemu.len(), host_bytes.len(), "{name}: wrong size");
+        let differing: Vec<usize> =
+            qemu.chunks(2).zip(host_bytes.chunks(2)).enumerate().filter(|(_, (a, b))| a != b).map(|(i, _)| i).collect();
+        if let Some(&first) = differing.first() {
+            let (x, y) = (first % usize::from(reference::WIDTH), first / usize::from(reference::WIDTH));
+            let px = |b: &[u8]| u16::from_le_bytes([b[2 * first], b[2 * first + 1]]);
+            panic!(
+                "{name}: {} pixels differ from the host rendering; first at ({x}, {y}): QEMU {:04x}, host {:04x}",
+                differing.len(),
+                px(&qemu),
+                px(&host_bytes)
+            );
+        }
+        compared += 1;
+    }
+    println!("{compared} QEMU rabbit frame(s) bit-identical to the host's");
+}

@@ -1,10 +1,12 @@
 //! Converts the reference Suzanne scene to `.s3d` for the firmware (soft3d's own converter,
 //! feature `convert`, as a build-dependency) and puts the linker's memory map where
 //! cortex-m-rt's `link.x` finds it (for riscv32, `memory-riscv.x`, passed to the linker with
-//! `-T` since riscv-rt's `link.x` does not include it).
+//! `-T` since riscv-rt's `link.x` does not include it). With feature `rabbit`, also converts
+//! the animated rabbit (`../shared/assets/rabbit/Rabbit.babylon`, beside the repository) to
+//! `OUT_DIR/rabbit.s3d`, with its pose constants in `OUT_DIR/rabbit.rs`.
 
 use soft3d::convert::EmitOptions;
-use soft3d::convert::{ConvertOptions, UvOrigin};
+use soft3d::convert::{build_script_convert, ConvertOptions, UvOrigin};
 
 #[path = "../common/firmware_build.rs"]
 mod firmware_build;
@@ -13,6 +15,10 @@ use firmware_build::firmware_build_with_memory;
 /// Largest texture side kept in flash: Suzanne.jpg is 512x512, which is 512 KiB as RGB565;
 /// 128x128 is 32 KiB.
 const MAX_TEXTURE: u32 = 128;
+
+/// Largest texture side of the rabbit (feature `rabbit`): its 0.jpg is 2048x2048; 64x64 is
+/// 8 KiB as RGB565.
+const RABBIT_MAX_TEXTURE: u32 = 64;
 
 fn main() {
     // The reference frame's model: exact f32 positions (the 14,457-pixel coverage), v = 0 at
@@ -29,5 +35,14 @@ fn main() {
         firmware_build_with_memory("memory-riscv.x", &[&format!("-T{}", memory.display())], &opts, &emit);
     } else {
         firmware_build_with_memory("memory.x", &[], &opts, &emit);
+    }
+    if std::env::var_os("CARGO_FEATURE_RABBIT").is_some() {
+        // Babylon's UV origin (the scene's own), the same positions as Suzanne's for the
+        // target: tests/qemu_frame.rs converts it alike for the host's frame.
+        let manifest = std::path::PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR"));
+        let scene = manifest.join("../../../shared/assets/rabbit/Rabbit.babylon");
+        let out = std::path::PathBuf::from(std::env::var_os("OUT_DIR").expect("OUT_DIR")).join("rabbit.s3d");
+        let opts = ConvertOptions { max_texture: Some(RABBIT_MAX_TEXTURE), ..Default::default() };
+        build_script_convert(&scene, &out, &opts, &emit).unwrap_or_else(|e| panic!("{e}"));
     }
 }

@@ -10,7 +10,10 @@
 //!
 //! Features: `two-frames` renders the frame twice (per-frame instruction count =
 //! count(2 frames) - count(1 frame)); `one-band` renders one 240x240 band instead of eight
-//! 240x30 ones.
+//! 240x30 ones; `rabbit` renders, instead of the Suzanne frame, the animated rabbit
+//! (`../shared/assets/rabbit`, converted by build.rs) posed at frame 50 of its skeleton's
+//! animation with `Renderer::draw_posed`, lit by one directional light (tests/qemu_frame.rs
+//! renders the same frame on the host).
 //!
 //! Buffers: one colour and one depth band and the scratch's rows and vertices live in
 //! `.bss`/`.data`, handed out once as `&'static mut`: by `#[entry]`'s `static mut` items on
@@ -42,13 +45,32 @@ use semihosting::fs::File;
 use semihosting::io::Write as _;
 use semihosting::{eprintln, println, process};
 use serde::Serialize;
+#[cfg(feature = "rabbit")]
+use soft3d::animation::{pose_memory, Pose};
 use soft3d::testing::reference;
+#[cfg(feature = "rabbit")]
+use soft3d::Lights;
 use soft3d::{
     Band, Camera, Mat4, Model, RenderOptions, Renderer, Scratch, Stats, TransformedVertex, TriangleRows, Vec3,
 };
 
 /// The reference scene, converted at build time (see build.rs).
+#[cfg(not(feature = "rabbit"))]
 static SUZANNE: &[u8] = soft3d::include_s3d!(concat!(env!("OUT_DIR"), "/suzanne.s3d"));
+/// The animated rabbit (feature `rabbit`), converted at build time (see build.rs).
+#[cfg(feature = "rabbit")]
+static RABBIT: &[u8] = soft3d::include_s3d!(concat!(env!("OUT_DIR"), "/rabbit.s3d"));
+/// `POSE_MATRICES` and `POSE_WEIGHTS`: the rabbit's pose memory, written by build.rs's
+/// `build_script_convert` beside rabbit.s3d.
+#[cfg(feature = "rabbit")]
+mod rabbit {
+    include!(concat!(env!("OUT_DIR"), "/rabbit.rs"));
+}
+#[cfg(feature = "rabbit")]
+use rabbit::{POSE_MATRICES, POSE_WEIGHTS};
+/// The rabbit's animation frame drawn (every group set to it).
+#[cfg(feature = "rabbit")]
+const RABBIT_FRAME: f32 = 50.0;
 
 const WIDTH: u16 = reference::WIDTH;
 const HEIGHT: u16 = reference::HEIGHT;
@@ -58,9 +80,17 @@ const BAND_ROWS: usize = HEIGHT as usize / BANDS;
 const BAND_PIXELS: usize = WIDTH as usize * BAND_ROWS;
 const _: () = assert!(BAND_ROWS * BANDS == HEIGHT as usize, "BANDS must divide HEIGHT");
 /// Triangles of the Suzanne model (one row-cache entry each).
+#[cfg(not(feature = "rabbit"))]
 const TRIANGLES: usize = 966;
 /// Vertices of the Suzanne model (one transformed-vertex entry each, 28 bytes).
+#[cfg(not(feature = "rabbit"))]
 const VERTICES: usize = 886;
+/// Triangles of the rabbit model (feature `rabbit`).
+#[cfg(feature = "rabbit")]
+const TRIANGLES: usize = 760;
+/// Vertices of the rabbit model (feature `rabbit`).
+#[cfg(feature = "rabbit")]
+const VERTICES: usize = 540;
 /// Frames rendered; the image file and the statistics are those of the last one.
 const FRAMES: u32 = if cfg!(feature = "two-frames") { 2 } else { 1 };
 /// Where the last frame goes, relative to QEMU's working directory: little-endian RGB565,
@@ -75,12 +105,17 @@ const STACK_PAINT: u32 = 0xCCCC_CCCC;
 #[repr(C, align(4))]
 struct Words<T>(T);
 
-/// The firmware's buffers: a band of colour and depth, and the scratch's rows and vertices.
+/// The firmware's buffers: a band of colour and depth, and the scratch's rows and vertices
+/// (with feature `rabbit`, the pose's matrices and weights too).
 struct Buffers {
     color: &'static mut Words<[Rgb565; BAND_PIXELS]>,
     depth: &'static mut Words<[u16; BAND_PIXELS]>,
     rows: &'static mut [TriangleRows; TRIANGLES],
     vertices: &'static mut [TransformedVertex; VERTICES],
+    #[cfg(feature = "rabbit")]
+    pose_matrices: &'static mut [Mat4; POSE_MATRICES],
+    #[cfg(feature = "rabbit")]
+    pose_weights: &'static mut [f32; POSE_WEIGHTS],
 }
 
 /// The single line printed on stdout.
@@ -117,7 +152,20 @@ fn main() -> ! {
     static mut DEPTH: Words<[u16; BAND_PIXELS]> = Words([0; BAND_PIXELS]);
     static mut ROWS: [TriangleRows; TRIANGLES] = [TriangleRows::UNKNOWN; TRIANGLES];
     static mut VERTS: [TransformedVertex; VERTICES] = [TransformedVertex::UNKNOWN; VERTICES];
-    exit(run(Buffers { color: COLOR, depth: DEPTH, rows: ROWS, vertices: VERTS }))
+    #[cfg(feature = "rabbit")]
+    static mut POSE_M: [Mat4; POSE_MATRICES] = [Mat4::IDENTITY; POSE_MATRICES];
+    #[cfg(feature = "rabbit")]
+    static mut POSE_W: [f32; POSE_WEIGHTS] = [0.0; POSE_WEIGHTS];
+    exit(run(Buffers {
+        color: COLOR,
+        depth: DEPTH,
+        rows: ROWS,
+        vertices: VERTS,
+        #[cfg(feature = "rabbit")]
+        pose_matrices: POSE_M,
+        #[cfg(feature = "rabbit")]
+        pose_weights: POSE_W,
+    }))
 }
 
 #[cfg(target_arch = "riscv32")]
@@ -129,6 +177,10 @@ fn main() -> ! {
             depth: riscv::singleton!(: Words<[u16; BAND_PIXELS]> = Words([0; BAND_PIXELS]))?,
             rows: riscv::singleton!(: [TriangleRows; TRIANGLES] = [TriangleRows::UNKNOWN; TRIANGLES])?,
             vertices: riscv::singleton!(: [TransformedVertex; VERTICES] = [TransformedVertex::UNKNOWN; VERTICES])?,
+            #[cfg(feature = "rabbit")]
+            pose_matrices: riscv::singleton!(: [Mat4; POSE_MATRICES] = [Mat4::IDENTITY; POSE_MATRICES])?,
+            #[cfg(feature = "rabbit")]
+            pose_weights: riscv::singleton!(: [f32; POSE_WEIGHTS] = [0.0; POSE_WEIGHTS])?,
         })
     })();
     exit(buffers.ok_or("buffers taken").and_then(run))
@@ -146,15 +198,50 @@ fn exit(result: Result<(), &'static str>) -> ! {
 }
 
 fn run(buffers: Buffers) -> Result<(), &'static str> {
+    #[cfg(not(feature = "rabbit"))]
     let Buffers { color: Words(color), depth: Words(depth), rows: rows_seen, vertices: vertices_seen } = buffers;
+    #[cfg(feature = "rabbit")]
+    let Buffers {
+        color: Words(color),
+        depth: Words(depth),
+        rows: rows_seen,
+        vertices: vertices_seen,
+        pose_matrices,
+        pose_weights,
+    } = buffers;
+    #[cfg(not(feature = "rabbit"))]
     let model = Model::parse(SUZANNE).map_err(|_| "suzanne.s3d does not parse")?;
+    #[cfg(not(feature = "rabbit"))]
     if model.draw_counts() != (TRIANGLES, VERTICES) {
         return Err("suzanne.s3d does not have the expected triangle and vertex counts");
     }
+    #[cfg(feature = "rabbit")]
+    let model = Model::parse(RABBIT).map_err(|_| "rabbit.s3d does not parse")?;
+    #[cfg(feature = "rabbit")]
+    if model.draw_counts() != (TRIANGLES, VERTICES) {
+        return Err("rabbit.s3d does not have the expected triangle and vertex counts");
+    }
+    // The rabbit's pose, in the memory build.rs sized (the same sizes the model asks for).
+    #[cfg(feature = "rabbit")]
+    let animation = model.animation().ok_or("rabbit.s3d has no animation")?;
+    #[cfg(feature = "rabbit")]
+    let mut pose = {
+        let (m, w) = pose_memory(animation.node_count(), animation.palette_count(), animation.weight_count());
+        if (m, w) != (POSE_MATRICES, POSE_WEIGHTS) {
+            return Err("rabbit.s3d's pose memory differs from build.rs's POSE_MATRICES/POSE_WEIGHTS");
+        }
+        Pose::new(&mut pose_matrices[..], &mut pose_weights[..])
+    };
     // The reference frame, shared with the host test that compares our output (or, with a
     // `view-*` feature, another view of the same model for the benchmarks).
     let (camera, transform) = view()?;
+    #[cfg(not(feature = "rabbit"))]
     let lights = reference::lights();
+    // The rabbit: the white directional light of `../shared/animation`'s Babylon.js renders of
+    // this view, no ambient (the scene's own point light is behind the rabbit, which it leaves
+    // nearly black from here).
+    #[cfg(feature = "rabbit")]
+    let lights = rabbit_lights();
     // FPU-less builds (thumbv6m, riscv32imc) transform vertices in integers (see RenderOptions);
     // build.rs gives them 16-bit positions (every target but `eabihf`).
     let opts = RenderOptions { fixed_vertices: cfg!(not(target_abi = "eabihf")), ..reference::options() };
@@ -167,6 +254,9 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
     for frame in 1..=FRAMES {
         let last = frame == FRAMES;
         let mut file = if last { Some(create_frame_file()?) } else { None };
+        // Part of each frame's cost: an animated scene poses itself every frame.
+        #[cfg(feature = "rabbit")]
+        pose.evaluate(&animation, RABBIT_FRAME, None).map_err(|_| "the rabbit's pose does not evaluate")?;
         stats = Stats::default();
         covered = 0;
         // Rows each triangle covers, learnt in the first band it is drawn in, so that later
@@ -180,7 +270,11 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
                 band.clear(Rgb565::BLACK);
                 // Instrumentation in the first frame only: it cancels out of the per-frame count.
                 let painted = (frame == 1).then(|| repaint_free_stack(&mut firmware_stack));
-                stats += draw(&renderer, &mut band, &model, transform, &mut cache)?;
+                #[cfg(not(feature = "rabbit"))]
+                let drawn = draw(&renderer, &mut band, &model, transform, &mut cache)?;
+                #[cfg(feature = "rabbit")]
+                let drawn = draw_posed(&renderer, &mut band, &model, &pose, transform, &mut cache)?;
+                stats += drawn;
                 if let Some((sp, from)) = painted {
                     core_stack = core_stack.max(sp.saturating_sub(lowest_touched_stack(from)) as u32);
                 }
@@ -217,6 +311,7 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
 /// [`Renderer::draw`], inlined into the frame loop (as LTO does in a firmware of one call
 /// site) or, with the `stack-probe` feature, out of line: then every frame of the renderer lies
 /// below the one `run` measures the core stack from (see `core_stack_bytes`).
+#[cfg(not(feature = "rabbit"))]
 #[cfg_attr(feature = "stack-probe", inline(never))]
 #[cfg_attr(not(feature = "stack-probe"), inline(always))]
 fn draw(
@@ -227,6 +322,21 @@ fn draw(
     scratch: &mut Scratch<'_>,
 ) -> Result<Stats, &'static str> {
     renderer.draw(band, model, transform, scratch).map_err(|_| "draw refused")
+}
+
+/// [`Renderer::draw_posed`] (feature `rabbit`), inlined or out of line as [`draw`] is.
+#[cfg(feature = "rabbit")]
+#[cfg_attr(feature = "stack-probe", inline(never))]
+#[cfg_attr(not(feature = "stack-probe"), inline(always))]
+fn draw_posed(
+    renderer: &Renderer<'_, 1>,
+    band: &mut Band<'_, Rgb565, &mut [u16]>,
+    model: &Model<'_>,
+    pose: &Pose<'_>,
+    transform: Mat4,
+    scratch: &mut Scratch<'_>,
+) -> Result<Stats, &'static str> {
+    renderer.draw_posed(band, model, pose, transform, scratch).map_err(|_| "draw refused")
 }
 
 /// Opens the frame file on the host (truncating it).
@@ -346,6 +456,7 @@ fn repaint_free_stack(_high_water: &mut u32) -> (usize, usize) {
 /// model at distance 12 (camera at (0, 0, -12) looking at the origin, model turned -0.7 rad
 /// about y: few pixels, vertex-bound), or with `view-near` a close-up at distance 1.6 that
 /// overflows the frame (pixel-bound, with clipping at the guard band).
+#[cfg(not(feature = "rabbit"))]
 fn view() -> Result<(Camera, Mat4), &'static str> {
     let aspect = WIDTH as f32 / HEIGHT as f32;
     let at = |eye: Vec3, turn: f32| {
@@ -360,4 +471,23 @@ fn view() -> Result<(Camera, Mat4), &'static str> {
     } else {
         Ok((reference::camera(WIDTH, HEIGHT), reference::transform()))
     }
+}
+
+/// The rabbit's camera (feature `rabbit`): from (40, 55, -75) looking at (0, 30, 5), vertical
+/// fov 0.8, near 1, far 1000; the posed model drawn as it stands (identity transform).
+#[cfg(feature = "rabbit")]
+fn view() -> Result<(Camera, Mat4), &'static str> {
+    let aspect = WIDTH as f32 / HEIGHT as f32;
+    Camera::perspective(Vec3::new(40.0, 55.0, -75.0), Vec3::new(0.0, 30.0, 5.0), 0.8, aspect, 1.0, 1000.0)
+        .map(|c| (c, Mat4::IDENTITY))
+        .map_err(|_| "bad camera")
+}
+
+/// The rabbit's light (feature `rabbit`): directional along (0.3, -0.6, 0.7), intensity 1, no
+/// ambient.
+#[cfg(feature = "rabbit")]
+fn rabbit_lights() -> Lights<1> {
+    let mut lights = Lights::new(Vec3::ZERO);
+    let _ = lights.push(Lights::<1>::directional(Vec3::new(0.3, -0.6, 0.7), 1.0));
+    lights
 }
