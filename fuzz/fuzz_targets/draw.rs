@@ -9,21 +9,30 @@
 //! hangs.
 //!
 //! The model is one of the seed scenes (`fuzz/seeds/parse`, chosen by the first byte) or, when
-//! that byte says so, the input's tail, if it parses.
+//! that byte says so, the input's tail, if it parses. A model with animation (the logo,
+//! morph-cube and shapekey seeds, or a tail that has some) is mostly drawn posed
+//! (`Renderer::draw_posed`): its pose evaluated at an arbitrary frame (NaN, infinities and huge
+//! ones too) of every group, one group or a group past the last, in pose memory of the right
+//! size or too small (the pose then unset: the model at rest).
 #![no_main]
 use embedded_graphics_core::pixelcolor::{BinaryColor, Gray8, Rgb565, Rgb888};
 use libfuzzer_sys::arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
+use soft3d::animation::{pose_memory, Pose, PoseError};
 use soft3d::{
     Band, Camera, DepthBuffer, DrawOrder, Filter, FrameColor, Lights, Mat4, Mode, Model, NoDepth, RenderOptions,
     Renderer, Rgb565Be, Scratch, Shading, SortEntry, TransformedVertex, TriangleRows, Vec3, Vec4,
 };
 
-const SEEDS: [&[u8]; 4] = [
+const SEEDS: [&[u8]; 8] = [
     include_bytes!("../seeds/parse/suzanne-monkey.s3d"),
     include_bytes!("../seeds/parse/double-sided-DoubleSidedMaterial.s3d"),
     include_bytes!("../seeds/parse/tree-tree.s3d"),
     include_bytes!("../seeds/parse/instances-Instances.s3d"),
+    include_bytes!("../seeds/parse/logo-animation-logo.s3d"),
+    include_bytes!("../seeds/parse/morph-cube-AnimatedMorphCube.s3d"),
+    include_bytes!("../seeds/parse/shapekey-shapekeyAnimation.s3d"),
+    include_bytes!("../seeds/parse/rabbit-Rabbit.s3d"),
 ];
 
 /// A float: usually a plain one in `-range..range`, sometimes any bit pattern (NaN, infinities,
@@ -122,6 +131,7 @@ fn draw_frame<C: FrameColor + Default>(
     u: &mut Unstructured<'_>,
     renderer: &Renderer<'_, 4>,
     model: &Model<'_>,
+    pose: Option<&Pose<'_>>,
     transform: Mat4,
     (width, height, rows, only): (u16, u16, u16, Option<u16>),
     depth: u8,
@@ -152,15 +162,21 @@ fn draw_frame<C: FrameColor + Default>(
         match depth {
             0 => draw_band(
                 renderer,
-                model,
+                (model, pose),
                 transform,
                 Band::new(color, &mut z16[..take], at.0, at.1, at.2),
                 &mut scratch,
             ),
-            1 => {
-                draw_band(renderer, model, transform, Band::new(color, &mut zf[..take], at.0, at.1, at.2), &mut scratch)
+            1 => draw_band(
+                renderer,
+                (model, pose),
+                transform,
+                Band::new(color, &mut zf[..take], at.0, at.1, at.2),
+                &mut scratch,
+            ),
+            _ => {
+                draw_band(renderer, (model, pose), transform, Band::new(color, NoDepth, at.0, at.1, at.2), &mut scratch)
             }
-            _ => draw_band(renderer, model, transform, Band::new(color, NoDepth, at.0, at.1, at.2), &mut scratch),
         }
     }
     Ok(())
@@ -168,21 +184,55 @@ fn draw_frame<C: FrameColor + Default>(
 
 fn draw_band<C: FrameColor + Default, D: DepthBuffer>(
     renderer: &Renderer<'_, 4>,
-    model: &Model<'_>,
+    (model, pose): (&Model<'_>, Option<&Pose<'_>>),
     transform: Mat4,
     band: Result<Band<'_, C, D>, soft3d::TargetError>,
     scratch: &mut Scratch<'_>,
 ) {
     let mut band = band.expect("the band fits its frame");
     band.clear(C::default());
-    let _ = renderer.draw(&mut band, model, transform, scratch);
+    let _ = match pose {
+        Some(pose) => renderer.draw_posed(&mut band, model, pose, transform, scratch),
+        None => renderer.draw(&mut band, model, transform, scratch),
+    };
+}
+
+/// Evaluates `pose` for `model` (when it has animation) at an arbitrary frame and group; whether
+/// to draw it posed (mostly, when there is animation; an unset pose draws the model at rest).
+fn evaluate_pose(u: &mut Unstructured<'_>, model: &Model<'_>, pose: &mut Pose<'_>) -> Result<bool> {
+    let Some(animation) = model.animation() else { return u.ratio(1, 8) };
+    let groups = animation.group_count();
+    let frame = match u.int_in_range(0..=3)? {
+        0 => float(u, 1e4)?,
+        _ => {
+            // Around a group's range (before it, inside, past its end).
+            let (from, to) =
+                u.choose_index(groups.max(1)).ok().and_then(|g| animation.group(g)).map_or((0.0, 100.0), |g| g.range());
+            from + (to - from) * (u.arbitrary::<i16>()? as f32 / 8192.0)
+        }
+    };
+    let group = match u.int_in_range(0..=4)? {
+        0 | 1 => None,
+        2 | 3 => Some(u.int_in_range(0..=groups)?),
+        _ => Some(u.arbitrary()?),
+    };
+    let (matrices, weights) = pose_memory(animation.node_count(), animation.palette_count(), animation.weight_count());
+    match pose.evaluate(&animation, frame, group) {
+        Ok(()) => {
+            assert!(group.is_none_or(|g| g < groups) && pose.weights().len() == weights);
+            assert_eq!(pose.palette().len(), animation.palette_count());
+        }
+        Err(PoseError::NoSuchGroup(g)) => assert!(Some(g) == group && g >= groups),
+        Err(PoseError::TooSmall { nodes: n, weights: w }) => assert_eq!((n, w), (matrices, weights)),
+    }
+    Ok(!u.ratio(1, 8)?)
 }
 
 fn run(data: &[u8]) -> Result<()> {
     let mut u = Unstructured::new(data);
     let pick: u8 = u.arbitrary()?;
     let tail_model;
-    let model = match SEEDS.get(pick as usize % 5) {
+    let model = match SEEDS.get(pick as usize % (SEEDS.len() + 1)) {
         Some(seed) => Model::parse(seed).expect("seed parses"),
         None => {
             tail_model = u.peek_bytes(u.len()).unwrap_or(&[]).to_vec();
@@ -207,12 +257,19 @@ fn run(data: &[u8]) -> Result<()> {
     let renderer = Renderer::new(&camera, &lights, options(&mut u)?);
     let size = (width, height, rows, only);
     let depth = u.int_in_range(0..=2)?;
-    match u.int_in_range(0..=4)? {
-        0 => draw_frame::<Rgb565>(&mut u, &renderer, &model, transform, size, depth),
-        1 => draw_frame::<Rgb888>(&mut u, &renderer, &model, transform, size, depth),
-        2 => draw_frame::<Gray8>(&mut u, &renderer, &model, transform, size, depth),
-        3 => draw_frame::<BinaryColor>(&mut u, &renderer, &model, transform, size, depth),
-        _ => draw_frame::<Rgb565Be>(&mut u, &renderer, &model, transform, size, depth),
+    let format = u.int_in_range(0..=4)?;
+    // Pose memory of `pose_memory`'s size, or sometimes too small (one short: `TooSmall`).
+    let (n, w) = model.animation().map_or((0, 0), |a| pose_memory(a.node_count(), a.palette_count(), a.weight_count()));
+    let short = usize::from(u.ratio(1, 8)?);
+    let (mut nodes, mut weights) = (vec![Mat4::IDENTITY; n.saturating_sub(short)], vec![0.0; w.saturating_sub(short)]);
+    let mut posed = Pose::new(&mut nodes, &mut weights);
+    let pose = if evaluate_pose(&mut u, &model, &mut posed)? { Some(&posed) } else { None };
+    match format {
+        0 => draw_frame::<Rgb565>(&mut u, &renderer, &model, pose, transform, size, depth),
+        1 => draw_frame::<Rgb888>(&mut u, &renderer, &model, pose, transform, size, depth),
+        2 => draw_frame::<Gray8>(&mut u, &renderer, &model, pose, transform, size, depth),
+        3 => draw_frame::<BinaryColor>(&mut u, &renderer, &model, pose, transform, size, depth),
+        _ => draw_frame::<Rgb565Be>(&mut u, &renderer, &model, pose, transform, size, depth),
     }
 }
 
