@@ -44,7 +44,8 @@
 //! [`ConvertOptions`], [`UvOrigin`], [`Warning`], [`ConvertError`]) and the reader's state; the
 //! work is split by concern into `fields` (JSON field access), `transform` (matrices, rotations,
 //! first frames), `node` (hierarchy), `geometry` (where vertex data lives), `mesh` (meshes,
-//! sub-meshes, instances), `animation` (tracks, groups, animated nodes, morph targets),
+//! sub-meshes, instances), `animation` (groups, animated nodes, morph targets), `track` (one
+//! animation's property and keys), `skeleton` (bones, their matrix keys, skin influences),
 //! `material`, `texture`, `light`, `camera` and `unsupported` (a warning for each feature the
 //! file has and soft3d does not draw or play). Writing the result as
 //! `.s3d` is not its job (that is `convert::emit`).
@@ -59,6 +60,7 @@ mod mesh;
 mod node;
 mod skeleton;
 mod texture;
+mod track;
 mod transform;
 mod unsupported;
 

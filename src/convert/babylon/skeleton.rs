@@ -29,8 +29,8 @@ use std::vec::Vec;
 
 use serde_json::Value;
 
-use super::animation::loop_behavior;
 use super::fields::{floats, get, list, number, text};
+use super::track::loop_behavior;
 use super::transform::mul;
 use super::{ConvertError, Reader};
 use crate::convert::scene::{
