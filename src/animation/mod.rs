@@ -10,7 +10,9 @@
 //! A node's matrix is Babylon's `Local = S · R · T` from its position, rotation (Euler
 //! `RotationYawPitchRoll(y, x, z)`, or a quaternion as written) and scaling; its world is
 //! `Local · above · World(parent)`, and a mesh linked to it is drawn at `below · World(node)`
-//! (see `convert::scene::AnimationData`).
+//! (see `convert::scene::AnimationData`). Bones are nodes too (in their mesh's space): after
+//! the nodes, a pose's matrices hold each skin's bone matrices, `World(bone) · inverse bind`
+//! (its palette), which the vertex stage blends by each vertex's four weights.
 
 mod keys;
 
