@@ -7,6 +7,9 @@
 //! cargo run --release --example simulator -- scene.babylon    # another scene (.babylon or .s3d)
 //! ```
 //!
+//! A scene with animations (node tracks, morph targets, skeletons) plays them all at their
+//! frame rate, looping, instead of turning: every band of a frame drawn with one `Pose`.
+//!
 //! Window keys: `1` unlit, `2` flat, `3` Gouraud, `4` Phong, `5` wireframe, `6` points,
 //! `7` solid + wireframe, `f` nearest/bilinear, `b` band height (240/120/48/30/1 rows),
 //! `d` dithering, `t` textures, space pause, Escape or `q` quit.
@@ -137,6 +140,43 @@ struct Scene<'a> {
     lights: Lights<4>,
     /// The model turns about the vertical axis through this point.
     pivot: Vec3,
+    /// The scene's animation, when it has one: played instead of the turn.
+    playback: Option<Playback>,
+}
+
+/// Every animation group of a scene, played together over their frames at their rate.
+#[derive(Clone, Copy)]
+struct Playback {
+    from: f32,
+    to: f32,
+    fps: f32,
+}
+
+impl Playback {
+    /// The scene's, if it has animation groups.
+    fn of(model: &Model<'_>) -> Option<Self> {
+        let a = model.animation()?;
+        let groups: Vec<_> = (0..a.group_count()).filter_map(|g| a.group(g)).collect();
+        let from = groups.iter().map(|g| g.range().0).fold(f32::INFINITY, f32::min);
+        let to = groups.iter().map(|g| g.range().1).fold(f32::NEG_INFINITY, f32::max);
+        let fps = groups.iter().flat_map(|g| g.tracks()).find_map(|t| a.track(t)).map_or(30.0, |t| t.fps());
+        (!groups.is_empty()).then_some(Playback { from, to, fps })
+    }
+
+    /// The frame `seconds` into the playback, looping.
+    fn frame(&self, seconds: f32) -> f32 {
+        let length = (self.to - self.from).max(1e-3);
+        self.from + (seconds * self.fps) % length
+    }
+}
+
+/// Where the demo is after `seconds`: the turn's angle (`turn` radians a second) and, for an
+/// animated scene, the animation's frame (the model then holds still).
+fn motion(scene: &Scene<'_>, seconds: f32, turn: f32) -> (f32, Option<f32>) {
+    match scene.playback {
+        Some(p) => (0.0, Some(p.frame(seconds))),
+        None => (seconds * turn, None),
+    }
 }
 
 /// What the user can change while the demo runs.
@@ -217,11 +257,20 @@ fn render_frame<T: DrawTarget<Color = Rgb565>>(
     display: &mut T,
     buffers: &mut BandBuffers,
     scene: &Scene<'_>,
-    angle: f32,
+    (angle, frame): (f32, Option<f32>),
     settings: &Settings,
     hud: &Hud,
 ) -> Result<Stats, T::Error> {
     let band_rows = settings.band_rows;
+    // The pose, once a frame, in memory sized by the model (every band draws the same).
+    let animation = scene.model.animation().filter(|_| frame.is_some());
+    let sizes = animation.map(|a| soft3d::animation::pose_memory(a.node_count(), a.palette_count(), a.weight_count()));
+    let (nodes, weights) = sizes.unwrap_or((0, 0));
+    let (mut node_memory, mut weight_memory) = (vec![Mat4::IDENTITY; nodes], vec![0.0f32; weights]);
+    let mut pose = soft3d::animation::Pose::new(&mut node_memory, &mut weight_memory);
+    if let (Some(a), Some(f)) = (animation, frame) {
+        pose.evaluate(&a, f, None).expect("memory sized by pose_memory");
+    }
     let transform = if scene.pivot == Vec3::ZERO {
         Mat4::from_rotation_y(angle)
     } else {
@@ -236,7 +285,7 @@ fn render_frame<T: DrawTarget<Color = Rgb565>>(
             .expect("the band buffers hold the tallest band");
         band.clear(BACKGROUND);
         stats += soft3d::Renderer::new(&scene.camera, &scene.lights, settings.opts)
-            .draw(&mut band, &scene.model, transform, &mut soft3d::Scratch::none())
+            .draw_posed(&mut band, &scene.model, &pose, transform, &mut soft3d::Scratch::none())
             .unwrap();
         // `Band` is a DrawTarget in frame coordinates, and drawing into it cannot fail.
         let Ok(()) = hud.draw(&mut band);
@@ -272,7 +321,8 @@ fn run(args: &Args) -> Result<(), String> {
     let tutorial = args.scene.is_none();
     // Suzanne sits at the origin; other scenes turn about the centre of their bounds.
     let pivot = if tutorial { Vec3::ZERO } else { model.bounds().map_or(Vec3::ZERO, |(c, _)| c) };
-    let scene = Scene { camera: camera(&model, tutorial, args.fit)?, lights: lights(&model), pivot, model };
+    let playback = Playback::of(&model);
+    let scene = Scene { camera: camera(&model, tutorial, args.fit)?, lights: lights(&model), pivot, model, playback };
     let mut opts = RenderOptions { dither: args.dither, ..RenderOptions::default() };
     opts.filter = if args.bilinear { Filter::Bilinear } else { Filter::Nearest };
     args.look.apply(&mut opts);
@@ -380,7 +430,7 @@ fn run_headless(scene: &Scene<'_>, settings: Settings, args: &Args) -> Result<()
     // A first frame, not saved, so that frame 0 shows a measured time like all the others.
     let hud = Hud::new(None, &Stats::default(), triangles, &settings, false);
     let start = Instant::now();
-    let Ok(mut stats) = render_frame(&mut display, &mut buffers, scene, 0.0, &settings, &hud);
+    let Ok(mut stats) = render_frame(&mut display, &mut buffers, scene, motion(scene, 0.0, 0.0), &settings, &hud);
     let mut last = start.elapsed();
 
     let mut gif = Vec::new();
@@ -389,10 +439,12 @@ fn run_headless(scene: &Scene<'_>, settings: Settings, args: &Args) -> Result<()
         let mut encoder = image::codecs::gif::GifEncoder::new_with_speed(&mut gif, 10);
         encoder.set_repeat(image::codecs::gif::Repeat::Infinite).map_err(|e| e.to_string())?;
         for k in 0..frames {
-            let angle = k as f32 / frames as f32 * std::f32::consts::TAU;
+            // One turn in `frames` frames of the GIF's delay, or the animation at its rate.
+            let seconds = (k * GIF_DELAY_MS) as f32 / 1e3;
+            let turn = std::f32::consts::TAU / (frames * GIF_DELAY_MS) as f32 * 1e3;
             let hud = Hud::new(Some(last), &stats, triangles, &settings, false);
             let start = Instant::now();
-            let Ok(s) = render_frame(&mut display, &mut buffers, scene, angle, &settings, &hud);
+            let Ok(s) = render_frame(&mut display, &mut buffers, scene, motion(scene, seconds, turn), &settings, &hud);
             last = start.elapsed();
             stats = s;
             times.push(last);
@@ -452,7 +504,8 @@ fn run_window(scene: &Scene<'_>, mut settings: Settings, seconds: Option<f32>) -
     let triangles = triangles(&scene.model);
     // One turn in 36 frames of the GIF's delay.
     let speed = std::f32::consts::TAU / (36.0 * GIF_DELAY_MS as f32 / 1e3);
-    let (mut angle, mut paused) = (0.0f32, false);
+    // Seconds played (paused time left out): the turn's angle or the animation's frame.
+    let (mut played, mut paused) = (0.0f32, false);
     let mut smoothed: Option<f64> = None;
     let mut stats = Stats::default();
     let (mut frames, mut total) = (0u32, Duration::ZERO);
@@ -461,7 +514,7 @@ fn run_window(scene: &Scene<'_>, mut settings: Settings, seconds: Option<f32>) -
     loop {
         let hud = Hud::new(smoothed.map(Duration::from_secs_f64), &stats, triangles, &settings, true);
         let start = Instant::now();
-        let Ok(s) = render_frame(&mut display, &mut buffers, scene, angle, &settings, &hud);
+        let Ok(s) = render_frame(&mut display, &mut buffers, scene, motion(scene, played, speed), &settings, &hud);
         let took = start.elapsed();
         stats = s;
         frames += 1;
@@ -516,7 +569,8 @@ fn run_window(scene: &Scene<'_>, mut settings: Settings, seconds: Option<f32>) -
         }
         let now = Instant::now();
         if !paused {
-            angle = (angle + speed * (now - tick).as_secs_f32()) % std::f32::consts::TAU;
+            // Wrapped at a whole number of turns (and of animation loops, nearly): no drift.
+            played = (played + (now - tick).as_secs_f32()) % 3600.0;
         }
         tick = now;
     }
