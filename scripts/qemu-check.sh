@@ -56,6 +56,24 @@ run_firmware() {
     echo "$JSON"
 }
 
+# Moves the frame the firmware just wrote (out/qemu-frame.rgb565) to FRAME and checks its size;
+# a missing or wrong-sized frame sets FAILED, naming WHAT.
+keep_frame() {
+    local what="$1" frame="$2"
+    if [ ! -f "$out/qemu-frame.rgb565" ]; then
+        echo "FAIL: $what: no frame written" >&2
+        failed=1
+        return
+    fi
+    mv "$out/qemu-frame.rgb565" "$frame"
+    local size
+    size="$(wc -c <"$frame")"
+    if [ "$size" -ne "$frame_bytes" ]; then
+        echo "FAIL: $what: $frame has $size bytes, expected $frame_bytes" >&2
+        failed=1
+    fi
+}
+
 failed=0
 for config in "${configs[@]}"; do
     read -r target machine cpu suffix expected_covered <<<"$config"
@@ -80,17 +98,7 @@ for config in "${configs[@]}"; do
         echo "FAIL: $target: covered $covered pixels, expected $expected_covered" >&2
         failed=1
     fi
-    if [ ! -f "$out/qemu-frame.rgb565" ]; then
-        echo "FAIL: $target: no frame written" >&2
-        failed=1
-        continue
-    fi
-    mv "$out/qemu-frame.rgb565" "$frame"
-    size="$(wc -c <"$frame")"
-    if [ "$size" -ne "$frame_bytes" ]; then
-        echo "FAIL: $target: $frame has $size bytes, expected $frame_bytes" >&2
-        failed=1
-    fi
+    keep_frame "$target" "$frame"
 done
 
 # riscv32imc: the same firmware, the same fixed-point path as thumbv6m, so the same frame.
@@ -172,17 +180,7 @@ for config in "${rabbit_configs[@]}"; do
         echo "FAIL: rabbit, $target: the frame covers no pixel" >&2
         failed=1
     fi
-    if [ ! -f "$out/qemu-frame.rgb565" ]; then
-        echo "FAIL: rabbit, $target: no frame written" >&2
-        failed=1
-        continue
-    fi
-    mv "$out/qemu-frame.rgb565" "$frame"
-    size="$(wc -c <"$frame")"
-    if [ "$size" -ne "$frame_bytes" ]; then
-        echo "FAIL: rabbit, $target: $frame has $size bytes, expected $frame_bytes" >&2
-        failed=1
-    fi
+    keep_frame "rabbit, $target" "$frame"
 done
 
 echo "frames: $out/qemu-frame-m4.rgb565 $out/qemu-frame-m0.rgb565"

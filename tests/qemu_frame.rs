@@ -80,16 +80,7 @@ fn qemu_frames_equal_the_host_frame() {
         let host_bytes: Vec<u8> = host.iter().flat_map(|c| RawU16::from(*c).into_inner().to_le_bytes()).collect();
         let recorded = RECORDED_FRAMES.iter().find(|(n, _)| *n == name).map(|(_, h)| *h);
         assert_eq!(Some(fnv1a(&host_bytes)), recorded, "{name}: the frame changed (hash {:016x})", fnv1a(&host_bytes));
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("out").join(name);
-        let Ok(qemu) = std::fs::read(&path) else {
-            assert!(!required, "{} missing: run scripts/qemu-check.sh first", path.display());
-            println!("skipped {name}: run scripts/qemu-check.sh to produce it");
-            continue;
-        };
-        assert_eq!(qemu.len(), host_bytes.len(), "{name}: wrong size");
-        let differing = qemu.chunks(2).zip(host_bytes.chunks(2)).filter(|(a, b)| a != b).count();
-        assert_eq!(differing, 0, "{name}: {differing} pixels differ from the host rendering");
-        compared += 1;
+        compared += usize::from(equals_qemu_frame(name, &host_bytes, required));
     }
     println!("{compared} QEMU frame(s) bit-identical to the host's");
 }
@@ -164,26 +155,33 @@ fn qemu_rabbit_frames_equal_the_host_frame() {
         let host_bytes: Vec<u8> = host.iter().flat_map(|c| RawU16::from(*c).into_inner().to_le_bytes()).collect();
         println!("{name}: host covers {covered} pixels, hash {:016x}", fnv1a(&host_bytes));
         assert!(covered > 0, "{name}: the host frame is empty");
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("out").join(name);
-        let Ok(qemu) = std::fs::read(&path) else {
-            assert!(!required, "{} missing: run scripts/qemu-check.sh first", path.display());
-            println!("skipped {name}: run scripts/qemu-check.sh to produce it");
-            continue;
-        };
-        assert_eq!(qemu.len(), host_bytes.len(), "{name}: wrong size");
-        let differing: Vec<usize> =
-            qemu.chunks(2).zip(host_bytes.chunks(2)).enumerate().filter(|(_, (a, b))| a != b).map(|(i, _)| i).collect();
-        if let Some(&first) = differing.first() {
-            let (x, y) = (first % usize::from(reference::WIDTH), first / usize::from(reference::WIDTH));
-            let px = |b: &[u8]| u16::from_le_bytes([b[2 * first], b[2 * first + 1]]);
-            panic!(
-                "{name}: {} pixels differ from the host rendering; first at ({x}, {y}): QEMU {:04x}, host {:04x}",
-                differing.len(),
-                px(&qemu),
-                px(&host_bytes)
-            );
-        }
-        compared += 1;
+        compared += usize::from(equals_qemu_frame(name, &host_bytes, required));
     }
     println!("{compared} QEMU rabbit frame(s) bit-identical to the host's");
+}
+
+/// Whether the frame QEMU wrote to `out/NAME` equals `host_bytes` (little-endian RGB565) bit for bit:
+/// it fails naming the first differing pixel; a missing frame is skipped (false), or a failure
+/// when `required`.
+fn equals_qemu_frame(name: &str, host_bytes: &[u8], required: bool) -> bool {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("out").join(name);
+    let Ok(qemu) = std::fs::read(&path) else {
+        assert!(!required, "{} missing: run scripts/qemu-check.sh first", path.display());
+        println!("skipped {name}: run scripts/qemu-check.sh to produce it");
+        return false;
+    };
+    assert_eq!(qemu.len(), host_bytes.len(), "{name}: wrong size");
+    let differing: Vec<usize> =
+        qemu.chunks(2).zip(host_bytes.chunks(2)).enumerate().filter(|(_, (a, b))| a != b).map(|(i, _)| i).collect();
+    if let Some(&first) = differing.first() {
+        let (x, y) = (first % usize::from(reference::WIDTH), first / usize::from(reference::WIDTH));
+        let px = |b: &[u8]| u16::from_le_bytes([b[2 * first], b[2 * first + 1]]);
+        panic!(
+            "{name}: {} pixels differ from the host rendering; first at ({x}, {y}): QEMU {:04x}, host {:04x}",
+            differing.len(),
+            px(&qemu),
+            px(host_bytes)
+        );
+    }
+    true
 }

@@ -45,6 +45,29 @@ fn invalid(part: Part, offset: usize) -> ParseError {
     ParseError::Invalid { part, offset }
 }
 
+/// The mesh references that open link, morph and skin records (a u16 at the record's start),
+/// checked in increasing order: at most one record a mesh, in one pass.
+struct MeshOrder {
+    meshes: usize,
+    last: Option<usize>,
+}
+
+impl MeshOrder {
+    fn new(vertices: &impl Fn(usize) -> Option<u32>) -> Self {
+        MeshOrder { meshes: (0..).take_while(|&m| vertices(m).is_some()).count(), last: None }
+    }
+
+    /// The mesh the record at `at` names, checked (in range, after the previous one's).
+    fn next(&mut self, data: &[u8], at: usize, part: Part) -> Result<usize, ParseError> {
+        let mesh = reference(data, at, self.meshes, part)?;
+        if self.last.is_some_and(|l| l >= mesh) {
+            return Err(invalid(part, at));
+        }
+        self.last = Some(mesh);
+        Ok(mesh)
+    }
+}
+
 impl<'a> Animation<'a> {
     fn table(
         &self,
@@ -94,17 +117,11 @@ impl<'a> Animation<'a> {
     fn validate_links(&self, vertices: &impl Fn(usize) -> Option<u32>) -> Result<(), ParseError> {
         let d = self.data;
         let links = self.table(animation::LINKS, animation::LINK_COUNT, link::LEN, Part::Link)?;
-        let meshes = (0..).take_while(|&m| vertices(m).is_some()).count();
-        let mut last = None;
+        let mut order = MeshOrder::new(vertices);
         for at in links.step_by(link::LEN) {
-            let mesh = reference(d, at + link::MESH.start, meshes, Part::Link)?;
+            order.next(d, at, Part::Link)?;
             reference(d, at + link::NODE.start, self.node_count(), Part::Link)?;
             finite(d, at + link::BELOW.start..at + link::LEN, Part::Link)?;
-            // By increasing mesh: at most one link a mesh, checked in one pass.
-            if last.is_some_and(|l| l >= mesh) {
-                return Err(invalid(Part::Link, at));
-            }
-            last = Some(mesh);
         }
         Ok(())
     }
@@ -112,15 +129,9 @@ impl<'a> Animation<'a> {
     fn validate_morphs(&self, vertices: &impl Fn(usize) -> Option<u32>) -> Result<(), ParseError> {
         let d = self.data;
         let morphs = self.table(animation::MORPHS, animation::MORPH_COUNT, morph::LEN, Part::Morph)?;
-        let meshes = (0..).take_while(|&m| vertices(m).is_some()).count();
-        let mut last = None;
+        let mut order = MeshOrder::new(vertices);
         for at in morphs.step_by(morph::LEN) {
-            let mesh = reference(d, at + morph::MESH.start, meshes, Part::Morph)?;
-            // By increasing mesh, as links.
-            if last.is_some_and(|l| l >= mesh) {
-                return Err(invalid(Part::Morph, at));
-            }
-            last = Some(mesh);
+            let mesh = order.next(d, at, Part::Morph)?;
             let m = Morph { data: d, at };
             let (targets, flags) = (m.target_count() as usize, u16_at(d, at + morph::FLAGS.start));
             let first = u16_at(d, at + morph::FIRST_WEIGHT.start) as usize;
@@ -153,14 +164,9 @@ impl<'a> Animation<'a> {
     fn validate_skins(&self, vertices: &impl Fn(usize) -> Option<u32>) -> Result<(), ParseError> {
         let d = self.data;
         let skins = self.table(animation::SKINS, animation::SKIN_COUNT, skin::LEN, Part::Skin)?;
-        let meshes = (0..).take_while(|&m| vertices(m).is_some()).count();
-        let mut last = None;
+        let mut order = MeshOrder::new(vertices);
         for at in skins.step_by(skin::LEN) {
-            let mesh = reference(d, at + skin::MESH.start, meshes, Part::Skin)?;
-            if last.is_some_and(|l| l >= mesh) {
-                return Err(invalid(Part::Skin, at));
-            }
-            last = Some(mesh);
+            let mesh = order.next(d, at, Part::Skin)?;
             let (bones, first) = (u16_at(d, at + skin::BONE_COUNT.start), u16_at(d, at + skin::FIRST_SLOT.start));
             if bones == 0 || first as usize + bones as usize > self.palette_count() {
                 return Err(invalid(Part::Skin, at + skin::BONE_COUNT.start));
