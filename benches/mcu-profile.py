@@ -38,6 +38,11 @@ STAGES = [
     ("lighting per vertex", ["Lights", "light::sum_lights", "OneFixedLight", "sqrtf"]),
     ("clipping and projection", ["clip_triangle", "clip::classify", "clip::cut", "draw_clipped", "project",
                                  "clip::outcode", "Projected"]),
+    # Animation (issue 17): before the front end, which inlines the deformation into its
+    # vertex reads.
+    # Skinning first: it reads the skin's records (format::animation) in its vertex reads.
+    ("skinning and morphing per vertex", ["format::deform"]),
+    ("pose evaluation (keys, node and bone matrices)", ["soft3d::animation", "format::animation"]),
     # Before the front end, whose "fill" keys would take the band clear's block fill (inlined
     # into the caller's `Band::clear`).
     ("band clear", ["Band$LT$C$C$D$GT$::clear", "memset", "memclr"]),

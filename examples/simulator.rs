@@ -323,7 +323,8 @@ fn run(args: &Args) -> Result<(), String> {
     let pivot = if tutorial { Vec3::ZERO } else { model.bounds().map_or(Vec3::ZERO, |(c, _)| c) };
     let playback = Playback::of(&model);
     let scene = Scene { camera: camera(&model, tutorial, args.fit)?, lights: lights(&model), pivot, model, playback };
-    let mut opts = RenderOptions { dither: args.dither, ..RenderOptions::default() };
+    // The scene's own fog, as Babylon.js draws it.
+    let mut opts = RenderOptions { dither: args.dither, fog: scene.model.fog(), ..RenderOptions::default() };
     opts.filter = if args.bilinear { Filter::Bilinear } else { Filter::Nearest };
     args.look.apply(&mut opts);
     let settings = Settings { look: args.look, opts, band_rows: args.band_rows };

@@ -46,6 +46,7 @@ extern crate std;
 pub mod animation;
 mod camera;
 mod fixed;
+mod fog;
 mod format;
 mod light;
 mod math;
@@ -62,6 +63,7 @@ mod eg;
 
 // The public API, whole: what the caller sets up per frame, the model, the targets, drawing.
 pub use camera::{Camera, CameraError};
+pub use fog::{Fog, FogMode};
 pub use format::{
     decode_texel, encode_texel, Light, LightKind, Material, Mesh, Model, ParseError, Part, SceneCamera, SubMesh,
     Texture, TextureFormat, Wrap, MAGIC, NONE, NORMAL_ONE, QUANT_MAX, VERSION,

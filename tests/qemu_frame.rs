@@ -90,10 +90,10 @@ fn rabbit_path() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets/rabbit/Rabbit.babylon")
 }
 
-/// The rabbit firmware's conversion (its build.rs): Babylon's UV origin, 64-texel texture,
+/// The rabbit firmware's conversion (its build.rs): Babylon's UV origin, 128-texel texture,
 /// exact (f32) positions or (`float_positions` false, FPU-less targets) 16-bit ones.
 fn rabbit_model_bytes(float_positions: bool) -> Vec<u8> {
-    let opts = ConvertOptions { max_texture: Some(64), ..Default::default() };
+    let opts = ConvertOptions { max_texture: Some(128), ..Default::default() };
     let (scene, _) = read_babylon_file(&rabbit_path(), &opts).unwrap();
     emit(&scene, &EmitOptions { float_positions, ..Default::default() }).unwrap()
 }

@@ -33,7 +33,8 @@ fuzz_target!(|data: &[u8]| {
     let mut color = [Rgb565::default(); 32 * 8];
     let mut depth = [0u16; 32 * 8];
     let mut band = Band::new(&mut color[..], &mut depth[..], 32, 32, 8).unwrap();
-    let renderer = Renderer::new(&camera, &lights, RenderOptions::default());
+    // With the file's fog, whatever it holds.
+    let renderer = Renderer::new(&camera, &lights, RenderOptions { fog: model.fog(), ..RenderOptions::default() });
     renderer.draw(&mut band, &model, Mat4::IDENTITY, &mut Scratch::none()).expect("stored order needs no scratch");
 
     let hash = fnv(data);

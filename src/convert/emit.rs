@@ -143,6 +143,11 @@ fn check_finite_scene(scene: &Scene) -> Result<(), EmitError> {
             return Err(EmitError(std::format!("mesh \"{}\": non-finite number", m.name)));
         }
     }
+    if let Some(f) = &scene.fog {
+        if !f.color.iter().chain(&[f.density, f.start, f.end]).all(|v| v.is_finite()) {
+            return Err(EmitError("fog: non-finite number".into()));
+        }
+    }
     Ok(())
 }
 
@@ -153,11 +158,16 @@ fn check_finite_scene(scene: &Scene) -> Result<(), EmitError> {
 pub fn emit(scene: &Scene, opts: &EmitOptions) -> Result<Vec<u8>, EmitError> {
     check_finite_scene(scene)?;
     let mut out = Out(Vec::new());
-    // Version 1 (which every reader since the first reads) unless the scene moves.
+    // The lowest version that holds the scene (version 1 every reader since the first reads).
     let animated = !scene.animation.is_empty();
-    out.reserve(if animated { header::LEN_V2 } else { header::LEN });
+    let (version, header_len) = match (&scene.fog, animated) {
+        (Some(_), _) => (VERSION, header::LEN_V3),
+        (None, true) => (2, header::LEN_V2),
+        (None, false) => (1, header::LEN),
+    };
+    out.reserve(header_len);
     out.put(header::MAGIC.start, &MAGIC);
-    out.put_u16(header::VERSION.start, if animated { VERSION } else { 1 });
+    out.put_u16(header::VERSION.start, version);
     let counts = [
         (header::MESH_COUNT, scene.meshes.len(), "meshes"),
         (header::MATERIAL_COUNT, scene.materials.len(), "materials"),
@@ -210,6 +220,13 @@ pub fn emit(scene: &Scene, opts: &EmitOptions) -> Result<Vec<u8>, EmitError> {
         out.put_f32s(at + camera::POSITION.start, &c.position);
         out.put_f32s(at + camera::TARGET.start, &c.target);
         out.put_f32s(at + camera::FOV.start, &[c.fov, c.near, c.far]);
+    }
+    if let Some(f) = &scene.fog {
+        let at = out.reserve(fog::LEN);
+        out.put_u32(header::FOG.start, at as u32);
+        out.put(at + fog::MODE, &[f.mode]);
+        out.put_f32s(at + fog::COLOR.start, &f.color);
+        out.put_f32s(at + fog::DENSITY.start, &[f.density, f.start, f.end]);
     }
     if animated {
         let at = emit_animation::emit_animation(&mut out, scene)?;
@@ -305,7 +322,14 @@ pub fn to_scene(model: &Model<'_>) -> Scene {
         far: c.far,
     });
     let animation = emit_animation::read_animation(model);
-    Scene { meshes, materials, textures, instances, lights, camera, animation }
+    let fog = model.fog().map(|f| scene::FogData {
+        mode: f.mode as u8,
+        color: f.color.to_array(),
+        density: f.density,
+        start: f.start,
+        end: f.end,
+    });
+    Scene { meshes, materials, textures, instances, lights, camera, animation, fog }
 }
 
 /// Writes mesh `m`'s record at `at` and its arrays; its bounding sphere holds `reach` too (the

@@ -29,6 +29,8 @@ pub struct Scene {
     pub camera: Option<CameraData>,
     /// What makes the scene move: empty for a still scene.
     pub animation: AnimationData,
+    /// The scene's fog, when it has some.
+    pub fog: Option<FogData>,
 }
 
 /// A scene's animations: the nodes its tracks move, the meshes those nodes carry, the meshes'
@@ -387,6 +389,21 @@ pub struct CameraData {
     pub near: f32,
     /// Far clip distance (`maxZ`).
     pub far: f32,
+}
+
+/// The scene's fog (see [`Fog`](crate::Fog), which it becomes).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FogData {
+    /// Babylon.js's `fogMode`: 1 exp, 2 exp2, 3 linear.
+    pub mode: u8,
+    /// Colour, 0..=1 a channel.
+    pub color: [f32; 3],
+    /// Density of the exponential modes.
+    pub density: f32,
+    /// Where linear fog starts.
+    pub start: f32,
+    /// Where linear fog is full.
+    pub end: f32,
 }
 
 impl Scene {

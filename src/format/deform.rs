@@ -3,7 +3,7 @@
 //! bone matrices (Babylon.js's order: morph, then skin). Cold and out of line: still meshes
 //! only test that there is none.
 
-use super::animation::{Morph, Skin};
+use super::animation::{weight_of, Morph, Skin, WEIGHT_ONE};
 use super::layout::NORMAL_ONE;
 use crate::math::{normalize_or_zero, Mat4, Vec3};
 
@@ -30,14 +30,19 @@ impl Deforming<'_> {
         sum
     }
 
-    /// Vertex `i`'s blend of bone matrices, `Σ wₖ · palette[bone k]`.
+    /// Vertex `i`'s blend of bone matrices, `Σ wₖ · palette[bone k]`: the bone's own matrix
+    /// for a vertex that one bone moves alone (all of a rigid character's), no sum.
     fn blend(&self, i: u32) -> Option<Mat4> {
         let (skin, palette, _) = self.skin?;
-        let (bones, weights) = skin.influences(i);
+        let (bones, weights) = skin.stored_influences(i);
+        let bone = |k: usize| palette.get(usize::from(bones[k])).copied();
+        if weights == [WEIGHT_ONE, 0, 0, 0] {
+            return bone(0);
+        }
         let mut m = Mat4::ZERO;
-        for (b, w) in bones.iter().zip(weights) {
-            if w != 0.0 {
-                m += *palette.get(*b as usize)? * w;
+        for (k, &w) in weights.iter().enumerate() {
+            if w != 0 {
+                m += bone(k)? * weight_of(w);
             }
         }
         Some(m)

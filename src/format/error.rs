@@ -50,6 +50,8 @@ pub enum Part {
     Group,
     /// A skin record, its bones or its vertices' influences.
     Skin,
+    /// The fog record.
+    Fog,
 }
 
 impl fmt::Display for Part {
@@ -76,6 +78,7 @@ impl fmt::Display for Part {
             Part::Track => "animation track",
             Part::Group => "animation group",
             Part::Skin => "skin",
+            Part::Fog => "fog record",
         };
         f.write_str(name)
     }

@@ -7,7 +7,7 @@
 //! alignment (`include_bytes!` gives alignment 1). Offsets are byte offsets from the start of
 //! the file. `f32` fields must be finite. Unused (`reserved`) bytes are written as zero.
 //!
-//! **Header** (48 bytes at offset 0; 52 in version 2)
+//! **Header** (48 bytes at offset 0; 52 in version 2, 56 in version 3)
 //!
 //! | bytes  | type     | field                                             |
 //! |--------|----------|---------------------------------------------------|
@@ -27,7 +27,8 @@
 //! | 36..40 | u32      | offset of the instance table (`count` x 52 bytes)  |
 //! | 40..44 | u32      | offset of the light table (`count` x 32 bytes)     |
 //! | 44..48 | u32      | offset of the camera record (36 bytes), 0 = none   |
-//! | 48..52 | u32      | version 2 only: offset of the animation section (32 bytes), 0 = none |
+//! | 48..52 | u32      | version 2 and later: offset of the animation section (40 bytes), 0 = none |
+//! | 52..56 | u32      | version 3 and later: offset of the fog record (28 bytes), 0 = none |
 //!
 //! **Mesh** (148 bytes). Positions, normals and UVs are quantized: a local position is
 //! `pos_offset + q * pos_scale` with `q` three u16, a normal is three i16 / 32767, a UV is
@@ -77,6 +78,11 @@
 //!
 //! **Camera** (36 bytes): 0..12 position, 12..24 target (3 x f32 each), 24..28 f32 vertical
 //! field of view in radians (0 < fov < pi), 28..32 f32 near (> 0), 32..36 f32 far (> near).
+//!
+//! **Fog** (28 bytes, version 3): 0 u8 mode ([`FogMode`](crate::FogMode): 1 exp, 2 exp2, 3
+//! linear), 1..4 reserved, 4..16 3 x f32 colour, 16..20 f32 density (>= 0), 20..24 f32 start,
+//! 24..28 f32 end. The converter writes version 3 only for a scene with fog, version 2 for an
+//! animated scene without, version 1 for the rest: the lowest version that holds the scene.
 //!
 //! # Animation
 //! Version 2 files may have one (version 1 files, which end their header at 48, have none;
@@ -135,9 +141,9 @@ use crate::math::{Mat4, Vec3};
 
 /// The first four bytes of every `.s3d` file.
 pub const MAGIC: [u8; 4] = *b"S3D\0";
-/// The newest format version this crate reads and writes (it reads version 1 too, and writes it
-/// for scenes without animation).
-pub const VERSION: u16 = 2;
+/// The newest format version this crate reads and writes (it reads versions 1 and 2 too, and
+/// writes the lowest that holds a scene: see the fog record).
+pub const VERSION: u16 = 3;
 /// The oldest format version this crate reads.
 pub const MIN_VERSION: u16 = 1;
 /// A `u16` reference that points at nothing (no material, no texture).
@@ -163,6 +169,9 @@ pub(crate) mod header {
     pub const ANIMATION: Range<usize> = 48..52;
     /// The header's length in version 2.
     pub const LEN_V2: usize = 52;
+    pub const FOG: Range<usize> = 52..56;
+    /// The header's length in version 3.
+    pub const LEN_V3: usize = 56;
 }
 
 pub(crate) mod animation {
@@ -352,6 +361,16 @@ pub(crate) mod light {
     pub const DIFFUSE: Range<usize> = 16..28;
     pub const INTENSITY: Range<usize> = 28..32;
     pub const LEN: usize = 32;
+}
+
+pub(crate) mod fog {
+    use core::ops::Range;
+    pub const MODE: usize = 0;
+    pub const COLOR: Range<usize> = 4..16;
+    pub const DENSITY: Range<usize> = 16..20;
+    pub const START: Range<usize> = 20..24;
+    pub const END: Range<usize> = 24..28;
+    pub const LEN: usize = 28;
 }
 
 pub(crate) mod camera {

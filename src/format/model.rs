@@ -9,6 +9,7 @@ use super::error::{ParseError, Part};
 use super::layout::*;
 use super::mesh::Mesh;
 use super::texel::{Texture, TextureFormat};
+use crate::fog::{Fog, FogMode};
 use crate::math::{Mat4, Vec3};
 
 /// Where a draw's world matrix lies in a model's bytes (validated finite by `parse`): see
@@ -88,8 +89,13 @@ impl<'a> Model<'a> {
         if !(MIN_VERSION..=VERSION).contains(&version) {
             return Err(ParseError::UnsupportedVersion(version));
         }
-        if version >= 2 && data.len() < header::LEN_V2 {
-            return Err(ParseError::Truncated { expected: header::LEN_V2, actual: data.len() });
+        let header_len = match version {
+            1 => header::LEN,
+            2 => header::LEN_V2,
+            _ => header::LEN_V3,
+        };
+        if data.len() < header_len {
+            return Err(ParseError::Truncated { expected: header_len, actual: data.len() });
         }
         let file_len = u32_at(data, header::FILE_LEN.start) as usize;
         if file_len != data.len() {
@@ -104,6 +110,27 @@ impl<'a> Model<'a> {
     fn animation_at(&self) -> Option<u32> {
         let v2 = u16_at(self.data, header::VERSION.start) >= 2;
         Some(u32_at(self.data, header::ANIMATION.start)).filter(|&at| v2 && at != 0)
+    }
+
+    /// The fog record's offset (version 3 and not 0).
+    fn fog_at(&self) -> Option<usize> {
+        let v3 = u16_at(self.data, header::VERSION.start) >= 3;
+        Some(u32_at(self.data, header::FOG.start) as usize).filter(|&at| v3 && at != 0)
+    }
+
+    /// The scene's fog, when it has some (for [`RenderOptions::fog`](crate::RenderOptions::fog)).
+    #[must_use]
+    pub fn fog(&self) -> Option<Fog> {
+        let at = self.fog_at()?;
+        let d = self.data;
+        Some(Fog {
+            // `parse` validated the mode.
+            mode: FogMode::from_code(u8_at(d, at + fog::MODE))?,
+            color: vec3_at(d, at + fog::COLOR.start),
+            density: f32_at(d, at + fog::DENSITY.start),
+            start: f32_at(d, at + fog::START.start),
+            end: f32_at(d, at + fog::END.start),
+        })
     }
 
     /// The model's animations (node tracks, morph targets), if it has some.
@@ -184,6 +211,21 @@ impl<'a> Model<'a> {
                 (f32_at(d, c + camera::FOV.start), f32_at(d, c + camera::NEAR.start), f32_at(d, c + camera::FAR.start));
             if !(fov > 0.0 && fov < core::f32::consts::PI && near > 0.0 && far > near) {
                 return Err(invalid(Part::Camera, c + camera::FOV.start));
+            }
+        }
+        self.validate_fog()
+    }
+
+    fn validate_fog(&self) -> Result<(), ParseError> {
+        let d = self.data;
+        if let Some(at) = self.fog_at() {
+            let fog = section(at as u32, fog::LEN, d.len(), Part::Fog, header::FOG.start)?;
+            check_finite(d, fog.start + fog::COLOR.start..fog.end, Part::Fog)?;
+            if FogMode::from_code(u8_at(d, at + fog::MODE)).is_none() {
+                return Err(invalid(Part::Fog, at + fog::MODE));
+            }
+            if f32_at(d, at + fog::DENSITY.start) < 0.0 {
+                return Err(invalid(Part::Fog, at + fog::DENSITY.start));
             }
         }
         Ok(())

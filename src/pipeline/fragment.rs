@@ -13,7 +13,8 @@ use super::span::{AnyCells, Base, Diffuse, RunCells, Shader, U16Cells};
 use super::varyings::{is_texel_coordinate, PixelLit, VertexLit};
 use super::vertex::{vertex_lit_varyings, VertexLight};
 use super::{Context, Shading, Stats};
-use crate::fixed::FDot16;
+use crate::fixed::{Depth30, FDot16};
+use crate::fog::PixelFog;
 
 use crate::light::PixelLights;
 use crate::target::{Band, DepthBuffer, FrameColor};
@@ -38,6 +39,14 @@ pub(super) trait Lighting {
     /// What this lighting takes added to the light varying (see [`White`]): added to a
     /// triangle's corners once, carried unchanged by interpolation.
     const LIGHT_BIAS: FDot16 = 0;
+    /// Whether [`Lighting::fog`] can change a colour.
+    const FOG: bool = false;
+    /// The lit colour `rgb` of the pixel at frame column and row `at` with depth `z`, seen
+    /// through the fog (see [`PixelFog`]); the last step of a fragment.
+    #[inline(always)]
+    fn fog(&self, rgb: [u8; 3], _at: (i32, i32), _z: Depth30) -> [u8; 3] {
+        rgb
+    }
     /// Whether [`Lighting::lit_rgb565`] is `texture::modulate565_white_with` of varying
     /// `VertexLit::LIGHT` with `[SPREAD565, SPREAD565_HALF]` (as [`White`]'s is): the span
     /// loop's assembly draws that variant itself (see `span::Run565`).
@@ -97,6 +106,30 @@ impl<const L: usize> Lighting for &PixelLights<L> {
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
         let (normal, position) = PixelLit::normal_and_position(v);
         self.at(normal, position)
+    }
+}
+
+/// Another lighting seen through the band's fog ([`PixelFog`]).
+struct Fogged<Lt> {
+    inner: Lt,
+    fog: Option<PixelFog>,
+}
+
+impl<Lt: Lighting> Lighting for Fogged<Lt> {
+    #[inline(always)]
+    fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
+        self.inner.light(v)
+    }
+    const HIGHLIGHT: bool = Lt::HIGHLIGHT;
+    #[inline(always)]
+    fn highlight<const V: usize>(&self, v: &[i32; V]) -> [u8; 3] {
+        self.inner.highlight(v)
+    }
+    const LIGHT_BIAS: FDot16 = Lt::LIGHT_BIAS;
+    const FOG: bool = true;
+    #[inline(always)]
+    fn fog(&self, rgb: [u8; 3], at: (i32, i32), z: Depth30) -> [u8; 3] {
+        self.fog.as_ref().map_or(rgb, |f| f.blend(rgb, at, z))
     }
 }
 
@@ -188,6 +221,9 @@ pub(crate) fn variant<C: FrameColor, D: DepthBuffer, const L: usize>(
 ) -> Variant<C, D, L> {
     // Formats that ignore the position take the plain path (the same pixels).
     let dither = ctx.opts.dither && C::DITHERS;
+    if ctx.frame.fog.is_some() {
+        return fogged_variant(surface, lit, dither);
+    }
     // One monomorphised loop per base, lighting (with its number of varyings) and dithering.
     macro_rules! with_lighting {
         ($base:ty) => {
@@ -211,6 +247,40 @@ pub(crate) fn variant<C: FrameColor, D: DepthBuffer, const L: usize>(
         (true, _) => with_lighting!(FastTexture),
         (false, true) => with_lighting!(SampledTexture),
         (false, false) => with_lighting!(MaterialColor),
+    }
+}
+
+/// [`variant`] with fog: the general span loop (the sampler or the material's colour, light
+/// per channel), each lighting [`Fogged`]; white light is lit as any vertex light is.
+fn fogged_variant<C: FrameColor, D: DepthBuffer, const L: usize>(
+    surface: &Surface<'_, '_>,
+    lit: LitBy,
+    dither: bool,
+) -> Variant<C, D, L> {
+    macro_rules! with_lighting {
+        ($base:ty) => {
+            match (lit, dither) {
+                (LitBy::White | LitBy::Vertex, false) => {
+                    fragments::<C, D, $base, FoggedBy<Interpolated>, L, { VertexLit::COLOR_LEN }, false>
+                }
+                (LitBy::White | LitBy::Vertex, true) => {
+                    fragments::<C, D, $base, FoggedBy<Interpolated>, L, { VertexLit::COLOR_LEN }, true>
+                }
+                (LitBy::VertexAndSpecular, false) => {
+                    fragments::<C, D, $base, FoggedBy<Specular>, L, { VertexLit::SPECULAR_LEN }, false>
+                }
+                (LitBy::VertexAndSpecular, true) => {
+                    fragments::<C, D, $base, FoggedBy<Specular>, L, { VertexLit::SPECULAR_LEN }, true>
+                }
+                (LitBy::Pixel, false) => fragments::<C, D, $base, FoggedBy<PerPixel>, L, { PixelLit::LEN }, false>,
+                (LitBy::Pixel, true) => fragments::<C, D, $base, FoggedBy<PerPixel>, L, { PixelLit::LEN }, true>,
+            }
+        };
+    }
+    if surface.sampler.is_some() {
+        with_lighting!(SampledTexture)
+    } else {
+        with_lighting!(MaterialColor)
     }
 }
 
@@ -311,6 +381,19 @@ impl<const L: usize> LightOf<L> for PerPixel {
     #[inline(always)]
     fn of<'c>(ctx: &'c Context<'_, L>) -> &'c PixelLights<L> {
         &ctx.frame.pixel_lights
+    }
+}
+
+/// [`Fogged`] `Lk`: the band's fog over another lighting.
+struct FoggedBy<Lk>(core::marker::PhantomData<Lk>);
+
+impl<const L: usize, Lk: LightOf<L>> LightOf<L> for FoggedBy<Lk> {
+    type Lighting<'c> = Fogged<Lk::Lighting<'c>>;
+    const TOLERANCE: u32 = Lk::TOLERANCE;
+    #[inline(always)]
+    fn of<'c>(ctx: &'c Context<'_, L>) -> Self::Lighting<'c> {
+        let size = (ctx.window.width as u16, ctx.height);
+        Fogged { inner: Lk::of(ctx), fog: ctx.frame.fog.as_ref().map(|f| PixelFog::new(f, size)) }
     }
 }
 

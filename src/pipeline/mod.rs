@@ -46,6 +46,7 @@ pub use varyings::{MAX_VARYINGS, VARYING_FRAC};
 
 use crate::animation::Pose;
 use crate::camera::Camera;
+use crate::fog::{Fog, PixelFog};
 use crate::format::{Material, Mesh, Model, SubMesh};
 use crate::light::{Lights, PixelLights, PreparedLights};
 use crate::math::{Mat4, Vec3};
@@ -83,7 +84,7 @@ pub enum Mode {
 }
 
 /// Per-frame choices.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderOptions {
     /// Lighting.
     pub shading: Shading,
@@ -115,6 +116,10 @@ pub struct RenderOptions {
     /// Colour of wireframe edges in [`Mode::SolidWireframe`] (and of [`Mode::Wireframe`] and
     /// [`Mode::Points`] when `Some`; `None` uses the material colour there).
     pub wire_color: Option<[u8; 3]>,
+    /// Fog over filled triangles, per pixel as Babylon.js's standard material computes it (see
+    /// [`Fog`]): the scene's is [`Model::fog`](crate::Model::fog); `None` (the default): none.
+    /// Fogged triangles take the general span loop (not the assembly of the common variant).
+    pub fog: Option<Fog>,
 }
 
 impl Default for RenderOptions {
@@ -129,6 +134,7 @@ impl Default for RenderOptions {
             fixed_vertices: false,
             order: DrawOrder::AsStored,
             wire_color: None,
+            fog: None,
         }
     }
 }
@@ -332,6 +338,8 @@ pub(crate) struct FrameConstants<'l, const L: usize> {
     digest: u64,
     /// The pose every draw of [`Renderer::draw_posed`] draws with (`None`: the model at rest).
     pub(crate) posed: Option<posed::Posed<'l>>,
+    /// The options' fog with the camera's inverse projection (see [`PixelFog::frame`]).
+    pub(crate) fog: Option<(Fog, Mat4)>,
 }
 
 impl<'l, const L: usize> FrameConstants<'l, L> {
@@ -352,6 +360,7 @@ impl<'l, const L: usize> FrameConstants<'l, L> {
             lit_by_position: lights.specular != Vec3::ZERO
                 || lights.lights.iter().any(|l| l.kind == crate::format::LightKind::Point),
             grey_light: is_grey(lights.ambient) && lights.lights.iter().all(|l| is_grey(l.diffuse)),
+            fog: opts.fog.and_then(|f| PixelFog::frame(&f, &camera.projection)),
             opts,
             posed: None,
         }

@@ -69,7 +69,7 @@ mod rabbit {
 #[cfg(feature = "rabbit")]
 use rabbit::{POSE_MATRICES, POSE_WEIGHTS};
 /// The rabbit's animation frame drawn (every group set to it).
-#[cfg(feature = "rabbit")]
+#[cfg(all(feature = "rabbit", not(feature = "rabbit-rest")))]
 const RABBIT_FRAME: f32 = 50.0;
 
 const WIDTH: u16 = reference::WIDTH;
@@ -225,6 +225,7 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
     #[cfg(feature = "rabbit")]
     let animation = model.animation().ok_or("rabbit.s3d has no animation")?;
     #[cfg(feature = "rabbit")]
+    #[cfg_attr(feature = "rabbit-rest", allow(unused_variables, unused_mut, reason = "drawn at rest"))]
     let mut pose = {
         let (m, w) = pose_memory(animation.node_count(), animation.palette_count(), animation.weight_count());
         if (m, w) != (POSE_MATRICES, POSE_WEIGHTS) {
@@ -255,7 +256,7 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
         let last = frame == FRAMES;
         let mut file = if last { Some(create_frame_file()?) } else { None };
         // Part of each frame's cost: an animated scene poses itself every frame.
-        #[cfg(feature = "rabbit")]
+        #[cfg(all(feature = "rabbit", not(feature = "rabbit-rest")))]
         pose.evaluate(&animation, RABBIT_FRAME, None).map_err(|_| "the rabbit's pose does not evaluate")?;
         stats = Stats::default();
         covered = 0;
@@ -270,9 +271,9 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
                 band.clear(Rgb565::BLACK);
                 // Instrumentation in the first frame only: it cancels out of the per-frame count.
                 let painted = (frame == 1).then(|| repaint_free_stack(&mut firmware_stack));
-                #[cfg(not(feature = "rabbit"))]
+                #[cfg(any(not(feature = "rabbit"), feature = "rabbit-rest"))]
                 let drawn = draw(&renderer, &mut band, &model, transform, &mut cache)?;
-                #[cfg(feature = "rabbit")]
+                #[cfg(all(feature = "rabbit", not(feature = "rabbit-rest")))]
                 let drawn = draw_posed(&renderer, &mut band, &model, &pose, transform, &mut cache)?;
                 stats += drawn;
                 if let Some((sp, from)) = painted {
@@ -311,7 +312,7 @@ fn run(buffers: Buffers) -> Result<(), &'static str> {
 /// [`Renderer::draw`], inlined into the frame loop (as LTO does in a firmware of one call
 /// site) or, with the `stack-probe` feature, out of line: then every frame of the renderer lies
 /// below the one `run` measures the core stack from (see `core_stack_bytes`).
-#[cfg(not(feature = "rabbit"))]
+#[cfg(any(not(feature = "rabbit"), feature = "rabbit-rest"))]
 #[cfg_attr(feature = "stack-probe", inline(never))]
 #[cfg_attr(not(feature = "stack-probe"), inline(always))]
 fn draw(
@@ -325,7 +326,7 @@ fn draw(
 }
 
 /// [`Renderer::draw_posed`] (feature `rabbit`), inlined or out of line as [`draw`] is.
-#[cfg(feature = "rabbit")]
+#[cfg(all(feature = "rabbit", not(feature = "rabbit-rest")))]
 #[cfg_attr(feature = "stack-probe", inline(never))]
 #[cfg_attr(not(feature = "stack-probe"), inline(always))]
 fn draw_posed(

@@ -9,12 +9,12 @@ use soft3d::animation::{pose_memory, Pose};
 use soft3d::convert::{emit, EmitOptions, TextureChoice};
 use soft3d::convert::{read_babylon_file, ConvertOptions, UvOrigin};
 use soft3d::testing::math::{Mat4, Vec3};
-use soft3d::DepthBuffer;
 use soft3d::TextureFormat;
 use soft3d::{
     Band, Camera, DrawOrder, Filter, FrameColor, Lights, Mode, Model, NoDepth, RenderOptions, Rgb565Be, Scratch,
     Shading, SortEntry, Stats, MAX_DIMENSION,
 };
+use soft3d::{DepthBuffer, Fog, FogMode};
 
 mod info;
 mod output;
@@ -232,6 +232,14 @@ struct RenderArgs {
     /// Exact perspective correction every N pixels, N at least 1 (1 = every pixel).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     subspan: u32,
+    /// Fog instead of the scene's own (default: the scene's, none without): off,
+    /// exp:DENSITY, exp2:DENSITY or linear:START,END (distances from the camera), as
+    /// Babylon.js's fogMode computes it per pixel.
+    #[arg(long)]
+    fog: Option<String>,
+    /// Fog colour r,g,b (0-255; default: the scene's, else Babylon.js's 51,51,77).
+    #[arg(long)]
+    fog_color: Option<String>,
     /// Pose the scene's animations at this frame (every group at once, or --animation's), as
     /// Babylon.js's `goToFrame` does; without it the scene is drawn as it stands.
     #[arg(long, allow_hyphen_values = true)]
@@ -392,6 +400,16 @@ fn cmd_info(input: &Path, conv: &ConvertArgs) -> Result<()> {
             l.intensity
         );
     }
+    if let Some(f) = model.fog() {
+        println!(
+            "  fog {:?} colour {:?}, density {}, start {}, end {}",
+            f.mode,
+            f.color.to_array(),
+            f.density,
+            f.start,
+            f.end
+        );
+    }
     if let Some(c) = model.camera() {
         println!(
             "  camera at {:?} looking at {:?}, fov {}, near {}, far {}",
@@ -455,11 +473,12 @@ fn parse_exponent(s: &str) -> Result<f32> {
     parse_number(s, |x| x.is_finite() && x > 0.0, "a finite exponent above 0, e.g. 64")
 }
 
-fn parse_rgb(s: &str) -> Result<[u8; 3]> {
+/// A colour r,g,b in 0-255, given to option `what`.
+fn parse_rgb(s: &str, what: &str) -> Result<[u8; 3]> {
     let v: Vec<u8> = s
         .split(',')
         .map(|p| p.trim().parse::<u8>())
         .collect::<std::result::Result<_, _>>()
-        .map_err(|_| format!("--background: expected r,g,b in 0-255, got {s:?}"))?;
-    <[u8; 3]>::try_from(v).map_err(|_| format!("--background: expected three values, got {s:?}"))
+        .map_err(|_| format!("{what}: expected r,g,b in 0-255, got {s:?}"))?;
+    <[u8; 3]>::try_from(v).map_err(|_| format!("{what}: expected three values, got {s:?}"))
 }

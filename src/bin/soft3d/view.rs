@@ -128,7 +128,7 @@ pub(crate) fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     }
     .map_err(|e| camera_error(e, (eye, target, up)))?;
     let lights = scene_lights(args, model)?;
-    let opts = render_options(args);
+    let opts = RenderOptions { fog: fog(args, model)?, ..render_options(args) };
     let threads = args.threads.unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, |n| u16::try_from(n.get()).unwrap_or(256).min(256))
     });
@@ -140,9 +140,35 @@ pub(crate) fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
         // Four a thread: the busy rows of a scene spread over all of them.
         None => threads.saturating_mul(4).min(height),
     };
-    let background = parse_rgb(&args.background)?;
+    let background = parse_rgb(&args.background, "--background")?;
     let pose = animation_pose(args, model)?;
     Ok(View { camera, lights, opts, background, width, height, bands, threads: threads.min(bands), pose })
+}
+
+/// `--fog` and `--fog-color` over the scene's fog.
+fn fog(args: &RenderArgs, model: &Model<'_>) -> Result<Option<Fog>> {
+    let scene = model.fog();
+    let default_color = scene.map_or(Vec3::new(0.2, 0.2, 0.3), |f| f.color);
+    let color = match &args.fog_color {
+        Some(c) => Vec3::from_array(parse_rgb(c, "--fog-color")?.map(|v| f32::from(v) / 255.0)),
+        None => default_color,
+    };
+    let Some(spec) = &args.fog else {
+        return Ok(scene.map(|f| Fog { color, ..f }));
+    };
+    let expected = "off, exp:DENSITY, exp2:DENSITY or linear:START,END";
+    let number = |s: &str| s.trim().parse::<f32>().ok().filter(|x| x.is_finite());
+    let (mode, params) = spec.split_once(':').unwrap_or((spec.as_str(), ""));
+    let fog = match (mode, params.split(',').map(number).collect::<Option<Vec<f32>>>().as_deref()) {
+        ("off", _) if params.is_empty() => return Ok(None),
+        ("exp" | "exp2", Some(&[density])) if density >= 0.0 => {
+            let mode = if mode == "exp" { FogMode::Exp } else { FogMode::Exp2 };
+            Fog { density, ..Fog::new(mode, color) }
+        }
+        ("linear", Some(&[start, end])) => Fog { start, end, ..Fog::new(FogMode::Linear, color) },
+        _ => return Err(format!("--fog: expected {expected} (a density at least 0), got {spec:?}")),
+    };
+    Ok(Some(fog))
 }
 
 /// `--frame` and `--animation`: the frame and the group (by name) to pose the model at.
@@ -195,6 +221,8 @@ pub(crate) fn render_options(args: &RenderArgs) -> RenderOptions {
         // Without a depth buffer the nearest triangle must be drawn last.
         order: if args.depth == DepthKind::None { DrawOrder::BackToFront } else { DrawOrder::AsStored },
         wire_color: matches!(args.mode, ModeArg::SolidWire).then_some([255, 255, 0]),
+        // The scene's or the arguments' (see `fog`), which need the model.
+        fog: None,
     }
 }
 

@@ -53,6 +53,7 @@
 mod animation;
 mod camera;
 mod fields;
+mod fog;
 mod geometry;
 mod light;
 mod material;
@@ -185,6 +186,7 @@ pub fn read_babylon(
     reader.read_skeletons()?;
     reader.read_lights()?;
     reader.read_camera()?;
+    reader.read_fog()?;
     reader.warn_unsupported();
     if let Some(what) = reader.legacy_uvs.take() {
         reader.warn(std::format!(

@@ -77,7 +77,6 @@ const FEATURES: &[Feature] = &[
         "every light lights every mesh",
     ),
     Feature::drawn("shadows", &[("", "shadowGenerators")], "no shadows are cast"),
-    Feature::drawn("fog", &[("", "fogMode")], "no fog"),
     Feature::drawn("particle systems", &[("", "particleSystems")], "not drawn"),
     Feature::drawn("sprites", &[("", "spriteManagers")], "not drawn"),
     Feature::drawn("lens flares", &[("", "lensFlareSystems")], "not drawn"),

@@ -446,10 +446,26 @@ impl Skin<'_> {
     /// Vertex `i`'s four bones and weights (zero weights past the last vertex).
     #[must_use]
     pub fn influences(&self, i: u32) -> ([u8; 4], [f32; 4]) {
+        let (bones, weights) = self.stored_influences(i);
+        (bones, weights.map(weight_of))
+    }
+
+    /// Vertex `i`'s four bones and weights as stored ([`WEIGHT_ONE`] for 1), read at once.
+    #[inline]
+    pub(crate) fn stored_influences(&self, i: u32) -> ([u8; 4], [u16; 4]) {
         let at = (u32_at(self.data, self.at + skin::VERTICES.start) as usize)
             .saturating_add((i as usize).saturating_mul(skin::VERTEX_LEN));
-        let bones = core::array::from_fn(|k| u8_at(self.data, at.saturating_add(k)));
-        let weights = core::array::from_fn(|k| f32::from(u16_at(self.data, at.saturating_add(4 + 2 * k))) / 65535.0);
-        (bones, weights)
+        let v: [u8; skin::VERTEX_LEN] = bytes_at(self.data, at);
+        let weights = core::array::from_fn(|k| u16::from_le_bytes([v[4 + 2 * k], v[5 + 2 * k]]));
+        ([v[0], v[1], v[2], v[3]], weights)
     }
+}
+
+/// A stored skin weight for 1.
+pub(crate) const WEIGHT_ONE: u16 = u16::MAX;
+
+/// A stored skin weight as a number (`WEIGHT_ONE` is 1).
+#[inline]
+pub(crate) fn weight_of(q: u16) -> f32 {
+    f32::from(q) / f32::from(WEIGHT_ONE)
 }

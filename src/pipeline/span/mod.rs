@@ -365,7 +365,7 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
                 rejected += 1;
                 // A cut-out texel writes neither colour nor depth.
             } else if let Some(c) =
-                lit_fragment::<C, B, Lt, V, DITHER>(base, self.lighting, &vary.current(), (x + k as i32, y))
+                lit_fragment::<C, B, Lt, V, DITHER>(base, self.lighting, &vary.current(), (x + k as i32, y, z))
             {
                 *px = c;
                 cell.store(z);
@@ -481,16 +481,16 @@ impl<C: FrameColor, D: RunCells, B: Base, Lt: Lighting, const DITHER: bool> Shad
 /// pixels, depth (2.30) at the first pixel, and the varyings along it.
 pub(super) type RunRow<R> = ((i32, i32, u32), Depth30, R);
 
-/// The lit colour of the fragment with varyings `v` at `(x, y)`, or `None` where the texture
-/// cuts it out.
+/// The lit colour of the fragment with varyings `v` at `(x, y)` with depth `z`, or `None`
+/// where the texture cuts it out.
 #[inline(always)]
 fn lit_fragment<C: FrameColor, B: Base, Lt: Lighting, const V: usize, const DITHER: bool>(
     base: &B,
     lighting: &Lt,
     v: &[i32; V],
-    (x, y): (i32, i32),
+    (x, y, z): (i32, i32, Depth30),
 ) -> Option<C> {
-    if !DITHER && !Lt::HIGHLIGHT {
+    if !DITHER && !Lt::HIGHLIGHT && !Lt::FOG {
         // Straight to the frame's format (RGB565 stays RGB565).
         return base.lit(lighting, v);
     }
@@ -498,6 +498,7 @@ fn lit_fragment<C: FrameColor, B: Base, Lt: Lighting, const V: usize, const DITH
     let rgb = modulate(base.base(u, tv)?, lighting.light(v));
     let extra = lighting.highlight(v);
     let rgb: [u8; 3] = core::array::from_fn(|c| rgb[c].saturating_add(extra[c]));
+    let rgb = if Lt::FOG { lighting.fog(rgb, (x, y), z) } else { rgb };
     Some(if DITHER { C::from_rgb888_dithered(rgb, x as u32, y as u32) } else { C::from_rgb888(rgb) })
 }
 
