@@ -1,6 +1,7 @@
 //! A track's value at a frame, interpolated as Babylon.js's `Animation._interpolate` does: the
 //! first or last key's value outside the keys, a step key's value until the next key, Hermite
-//! between keys that carry tangents (scaled by the frames between them), else linear, and
+//! where the first key of a span has an out tangent and the last an in tangent (scaled by the
+//! frames between them), else linear, and
 //! quaternions by `Quaternion.Slerp` (Hermite ones normalised).
 
 use crate::format::Track;
@@ -33,7 +34,7 @@ pub(super) fn value_at(track: &Track<'_>, frame: f32, quaternion: bool) -> Vec4 
     }
     let t = (frame - f0) / (f1 - f0);
     let (v0, v1) = (track.value(k, 0), track.value(next, 0));
-    if track.has_tangents() {
+    if track.has_out_tangent(k) && track.has_in_tangent(next) {
         let delta = f1 - f0;
         let h = hermite(v0, track.value(k, 2) * delta, v1, track.value(next, 1) * delta, t);
         return if quaternion { normalised(h) } else { h };

@@ -207,10 +207,13 @@ fn emit_tracks(out: &mut Out, a: &AnimationData) -> Result<u32, EmitError> {
                 (track::KIND_INFLUENCE, 0, 1, u16::try_from(base + target as usize).map_err(|_| bad())?)
             }
         };
-        // Tangents are stored for a whole track (when every key has both, of `count` values).
+        // Tangents are stored for a whole track when a key has one (zeros where a key has
+        // none, with a key flag saying so).
         let n = count as usize;
-        let tangents = !t.keys.is_empty()
-            && t.keys.iter().all(|k| k.tangents.as_ref().is_some_and(|(i, o)| i.len() == n && o.len() == n));
+        let tangents = t.keys.iter().any(|k| k.tangents.as_ref().is_some_and(|(i, o)| !i.is_empty() || !o.is_empty()));
+        if t.keys.iter().flat_map(|k| &k.tangents).any(|(i, o)| ![i, o].iter().all(|v| v.is_empty() || v.len() == n)) {
+            return Err(bad());
+        }
         let looping = match t.looping {
             Loop::Relative => 0,
             Loop::Cycle => 1,
@@ -226,11 +229,17 @@ fn emit_tracks(out: &mut Out, a: &AnimationData) -> Result<u32, EmitError> {
                 return Err(bad());
             }
             keys.extend(key.frame.to_le_bytes());
-            keys.extend(u32::from(key.step).to_le_bytes());
+            let (tin, tout) = key.tangents.as_ref().map_or((&[][..], &[][..]), |(i, o)| (&i[..], &o[..]));
+            let flags = u32::from(key.step)
+                | if tangents && tin.is_empty() { key::FLAG_NO_IN_TANGENT } else { 0 }
+                | if tangents && tout.is_empty() { key::FLAG_NO_OUT_TANGENT } else { 0 };
+            keys.extend(flags.to_le_bytes());
             let mut floats: Vec<f32> = key.values.clone();
-            if let (true, Some((i, o))) = (tangents, &key.tangents) {
-                floats.extend(i.iter().chain(o).take(2 * count as usize));
-                floats.resize(3 * count as usize, 0.0);
+            if tangents {
+                for t in [tin, tout] {
+                    floats.extend(t);
+                    floats.resize(floats.len() + n - t.len(), 0.0);
+                }
             }
             keys.extend(floats.iter().flat_map(|v| v.to_le_bytes()));
         }
@@ -417,7 +426,18 @@ fn read_tracks(a: &Animation<'_>) -> Vec<scene::TrackData> {
                     values: t.value(k, 0).to_array()[..n].to_vec(),
                     tangents: t
                         .has_tangents()
-                        .then(|| (t.value(k, 1).to_array()[..n].to_vec(), t.value(k, 2).to_array()[..n].to_vec())),
+                        .then(|| {
+                            let [tin, tout] =
+                                [(1, t.has_in_tangent(k)), (2, t.has_out_tangent(k))].map(|(set, has)| {
+                                    if has {
+                                        t.value(k, set).to_array()[..n].to_vec()
+                                    } else {
+                                        Vec::new()
+                                    }
+                                });
+                            (tin, tout)
+                        })
+                        .filter(|(i, o)| !i.is_empty() || !o.is_empty()),
                     step: t.is_step(k),
                 })
                 .collect();

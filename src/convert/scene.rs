@@ -222,8 +222,9 @@ pub struct KeyData {
     pub frame: f32,
     /// Its value (the track's `count` components).
     pub values: Vec<f32>,
-    /// Hermite tangents (in, out) when the key has them: Babylon.js interpolates with them
-    /// where both keys around a frame do.
+    /// Hermite tangents (in, out) when the key has them, an empty one where it has the other
+    /// only: Babylon.js interpolates a span with them when its first key has an out tangent and
+    /// its last an in tangent (else linearly).
     pub tangents: Option<(Vec<f32>, Vec<f32>)>,
     /// `interpolation: 1` (step): the value holds until the next key.
     pub step: bool,

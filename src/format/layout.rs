@@ -123,8 +123,10 @@
 //! offset of the keys.
 //!
 //! **Key** (`8 + 4 x count`, or `8 + 12 x count` with tangents): 0..4 f32 frame (keys in
-//! increasing order, equal frames allowed), 4..8 u32 flags (bit 0: step), the values, then
-//! the in and out tangents.
+//! increasing order, equal frames allowed), 4..8 u32 flags (bit 0: step; with tangents, bit 1:
+//! no in tangent, bit 2: no out tangent, their values then zeros), the values, then the in and
+//! out tangents. A span is Hermite when its first key has an out tangent and its last an in
+//! tangent (Babylon.js's rule), else linear.
 //!
 //! **Skin** (16 bytes, in increasing mesh order): 0..2 u16 mesh, 2..4 u16 bone count (>= 1),
 //! 4..6 u16 first palette slot (its bones' matrices are `first..first + count` of a pose's
@@ -277,6 +279,12 @@ pub(crate) mod key {
     pub const FLAGS: Range<usize> = 4..8;
     pub const VALUES: usize = 8;
     pub const FLAG_STEP: u32 = 1;
+    /// In a track with tangents: the key has no in tangent (its values are zeros).
+    pub const FLAG_NO_IN_TANGENT: u32 = 2;
+    /// In a track with tangents: the key has no out tangent.
+    pub const FLAG_NO_OUT_TANGENT: u32 = 4;
+    /// Every flag a key may have.
+    pub const FLAGS_ALL: u32 = FLAG_STEP | FLAG_NO_IN_TANGENT | FLAG_NO_OUT_TANGENT;
 }
 
 pub(crate) mod group {

@@ -23,8 +23,8 @@
 //!   `null`, a number or an array) and the interpolation; for quaternions 4 + 4 numbers of
 //!   tangents (all zero: none) and the interpolation. `inTangent`, `outTangent` and
 //!   `interpolation` keys, when present, win over the packed ones. `interpolation: 1` is a
-//!   step. A key with one tangent only gets a zero for the other, with a warning when that
-//!   one would be used (Babylon.js interpolates linearly there).
+//!   step. A key with one tangent only keeps that one: a span is Hermite when its first key
+//!   has an out-tangent and its last an in-tangent, else linear, as in Babylon.js.
 //! - **Groups**: `animationGroups[].targetedAnimations[]` name their target by `targetId`: an
 //!   `influence` track a morph target (by `id`, then `name`), any other a mesh or transform
 //!   node (by `id`, then `name`); unknown targets, cameras, lights and skeleton bones are

@@ -156,28 +156,17 @@ fn keys(anim: &Value, count: usize, quaternion: bool, notes: &mut Vec<String>) -
         raw.sort_by(|a, b| a.frame.total_cmp(&b.frame));
         notes.push("keys are not in frame order: sorted by frame".into());
     }
-    let last = raw.len().saturating_sub(1);
-    let mut lone = None;
-    let keys = raw.into_iter().enumerate().map(|(i, key)| {
+    // A key with one tangent keeps an empty other: the spans it starts or ends without a pair
+    // are linear, as Babylon.js draws them.
+    let keys = raw.into_iter().map(|key| {
         let [tin, tout] = key.tangents;
         let tangents = match (tin, tout) {
-            (Some(a), Some(b)) => Some((a, b)),
             (None, None) => None,
-            (a, b) => {
-                // The in-tangent is used when a key ends a span, the out-tangent when it starts one.
-                if (a.is_none() && i > 0) || (b.is_none() && i < last) {
-                    lone.get_or_insert(key.frame);
-                }
-                Some((a.unwrap_or_else(|| vec![0.; count]), b.unwrap_or_else(|| vec![0.; count])))
-            }
+            (a, b) => Some((a.unwrap_or_default(), b.unwrap_or_default())),
         };
         KeyData { frame: key.frame, values: key.values, tangents, step: key.step }
     });
-    let keys = keys.collect();
-    if let Some(frame) = lone {
-        notes.push(format!("the key at frame {frame} has one tangent only: the other is taken as 0"));
-    }
-    Ok(keys)
+    Ok(keys.collect())
 }
 
 /// One key (see the module documentation); messages start with the field.
@@ -290,8 +279,9 @@ mod tests {
         let (Ok(Ok((_, curve))), notes) = parse(&anim) else { panic!() };
         assert_eq!(curve.fps, DEFAULT_FPS);
         assert_eq!(curve.looping, Loop::Cycle);
-        assert_eq!(curve.keys[0].tangents, Some((vec![0.; 3], vec![4., 5., 6.])));
-        assert_eq!(curve.keys[1].tangents, Some((vec![1.; 3], vec![0.; 3])));
+        // A missing tangent stays missing (empty): Babylon.js interpolates that span linearly.
+        assert_eq!(curve.keys[0].tangents, Some((vec![], vec![4., 5., 6.])));
+        assert_eq!(curve.keys[1].tangents, Some((vec![1.; 3], vec![])));
         assert!(curve.keys[1].step && !curve.keys[0].step);
         assert!(notes.is_empty(), "{notes:?}");
 
@@ -300,7 +290,7 @@ mod tests {
             {"frame": 5, "values": [0, 0, 0, 1], "inTangent": [1, 0, 0, 0], "outTangent": [0, 1, 0, 0]},
         ]});
         let (Ok(Ok((_, curve))), notes) = parse(&quat) else { panic!() };
-        assert_eq!(curve.keys[0].tangents, Some((vec![0.; 4], vec![0.5, 0., 0., 0.])));
+        assert_eq!(curve.keys[0].tangents, Some((vec![], vec![0.5, 0., 0., 0.])));
         assert!(curve.keys[0].step);
         assert_eq!(curve.keys[1].tangents, Some((vec![1., 0., 0., 0.], vec![0., 1., 0., 0.])));
         assert!(notes.is_empty(), "{notes:?}");

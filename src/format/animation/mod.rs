@@ -299,7 +299,24 @@ impl Track<'_> {
     /// Whether key `k` holds its value until the next key.
     #[must_use]
     pub fn is_step(&self, k: usize) -> bool {
-        u32_at(self.data, self.key_at(k).saturating_add(key::FLAGS.start)) & key::FLAG_STEP != 0
+        self.key_flags(k) & key::FLAG_STEP != 0
+    }
+
+    /// Whether key `k` has an in tangent (in a track with tangents: see
+    /// [`Track::has_tangents`]).
+    #[must_use]
+    pub fn has_in_tangent(&self, k: usize) -> bool {
+        self.has_tangents() && self.key_flags(k) & key::FLAG_NO_IN_TANGENT == 0
+    }
+
+    /// Whether key `k` has an out tangent.
+    #[must_use]
+    pub fn has_out_tangent(&self, k: usize) -> bool {
+        self.has_tangents() && self.key_flags(k) & key::FLAG_NO_OUT_TANGENT == 0
+    }
+
+    fn key_flags(&self, k: usize) -> u32 {
+        u32_at(self.data, self.key_at(k).saturating_add(key::FLAGS.start))
     }
 
     /// Key `k`'s value (`set` 0), in tangent (1) or out tangent (2), components beyond

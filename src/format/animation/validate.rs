@@ -231,7 +231,7 @@ impl<'a> Animation<'a> {
         let mut last = f32::NEG_INFINITY;
         for k in keys.clone().step_by(t.key_len()) {
             let frame = f32_at(d, k + key::FRAME.start);
-            if frame < last || u32_at(d, k + key::FLAGS.start) > key::FLAG_STEP {
+            if frame < last || u32_at(d, k + key::FLAGS.start) & !key::FLAGS_ALL != 0 {
                 return Err(invalid(Part::Track, k));
             }
             last = frame;
