@@ -3,7 +3,7 @@
 //! the skinned rabbit, the morph cube and the head (morph targets) at frames where they have
 //! moved, with the scratch's row and vertex caches (which hold deformed vertices) as bands use
 //! them. The rabbit and the cube are in `../shared/assets/` (skipped, with a note, when absent);
-//! the head is in `assets/`.
+//! the head is in `assets/`. With `SOFT3D_REQUIRE_GOLDEN` set (CI), an absent file fails.
 #![cfg(feature = "convert")]
 
 use std::path::PathBuf;
@@ -45,6 +45,16 @@ fn cases() -> Vec<Case> {
             camera: ([0.15, 0.05, -0.45], [0.0; 3], 0.69, 0.1, 100.0),
         },
     ]
+}
+
+/// Whether `case`'s file is there (if not: a note, or a failure under `SOFT3D_REQUIRE_GOLDEN`).
+fn present(case: &Case) -> bool {
+    let there = case.file.exists();
+    if !there {
+        assert!(std::env::var_os("SOFT3D_REQUIRE_GOLDEN").is_none(), "{} is missing", case.file.display());
+        println!("note: {} is absent: skipped", case.file.display());
+    }
+    there
 }
 
 fn s3d(path: &std::path::Path) -> Vec<u8> {
@@ -119,8 +129,7 @@ fn option_sets() -> [RenderOptions; 2] {
 #[test]
 fn posed_bands_equal_the_whole_posed_frame() {
     for case in cases() {
-        if !case.file.exists() {
-            println!("note: {} is absent: skipped", case.file.display());
+        if !present(&case) {
             continue;
         }
         let bytes = s3d(&case.file);
@@ -146,8 +155,7 @@ fn posed_bands_equal_the_whole_posed_frame() {
 #[test]
 fn a_scratch_reused_for_another_pose_changes_nothing() {
     for case in cases() {
-        if !case.file.exists() {
-            println!("note: {} is absent: skipped", case.file.display());
+        if !present(&case) {
             continue;
         }
         let bytes = s3d(&case.file);

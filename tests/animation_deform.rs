@@ -61,24 +61,22 @@ fn transform(p: [f64; 3], m: &Matrix) -> [f64; 3] {
 
 /// A track's value at `frame`: linear between keys, the end keys' values outside them.
 fn lerp_keys(keys: &[Value], frame: f64) -> f64 {
-    let key = |k: &Value| (k["frame"].as_f64().unwrap(), numbers(&k["values"])[0]);
-    let (first, last) = (key(&keys[0]), key(&keys[keys.len() - 1]));
-    if frame <= first.0 {
-        return first.1;
+    let keys: Vec<(f64, f64)> = keys.iter().map(|k| (k["frame"].as_f64().unwrap(), numbers(&k["values"])[0])).collect();
+    let Some(i) = keys.iter().rposition(|k| k.0 <= frame) else { return keys[0].1 };
+    match keys.get(i + 1) {
+        Some(&(f1, v1)) => {
+            let (f0, v0) = keys[i];
+            v0 + (v1 - v0) * (frame - f0) / (f1 - f0)
+        }
+        None => keys[i].1,
     }
-    let next = keys.iter().map(key).find(|k| k.0 > frame).unwrap_or(last);
-    let before = keys.iter().map(key).filter(|k| k.0 <= frame).last().unwrap();
-    if next.0 <= before.0 {
-        return before.1;
-    }
-    before.1 + (next.1 - before.1) * (frame - before.0) / (next.0 - before.0)
 }
 
 /// A bone's local matrix at `frame`: the last `_matrix` key at or before it (Babylon.js holds
 /// matrix keys: `Animation.AllowMatricesInterpolation` is off).
 fn bone_local(bone: &Value, frame: f64) -> Matrix {
     let keys = bone["animation"]["keys"].as_array().unwrap();
-    let key = keys.iter().filter(|k| k["frame"].as_f64().unwrap() <= frame).last().unwrap_or(&keys[0]);
+    let key = keys.iter().rev().find(|k| k["frame"].as_f64().unwrap() <= frame).unwrap_or(&keys[0]);
     matrix(&key["values"])
 }
 
