@@ -114,18 +114,14 @@ fn reference(scene: &Value, frame: f64) -> Vec<[f64; 3]> {
                 .map_or(t["influence"].as_f64().unwrap(), |a| lerp_keys(a["keys"].as_array().unwrap(), frame))
         })
         .collect();
+    if mesh.get("skeletonId").is_none() {
+        return (0..base.len() / 3).map(|v| morphed(&base, targets, &influences, v)).collect();
+    }
     let skins = skin_matrices(scene, frame);
     let (packed, weights) = (numbers(&mesh["matricesIndices"]), numbers(&mesh["matricesWeights"]));
     (0..base.len() / 3)
         .map(|v| {
-            let morphed: [f64; 3] = core::array::from_fn(|c| {
-                let p = base[3 * v + c];
-                p + targets
-                    .iter()
-                    .zip(&influences)
-                    .map(|(t, w)| w * (numbers(&t["positions"])[3 * v + c] - p))
-                    .sum::<f64>()
-            });
+            let morphed = morphed(&base, targets, &influences, v);
             (0..4).fold([0.0; 3], |sum, k| {
                 let bone = (packed[v] as u32 >> (8 * k) & 0xff) as usize;
                 let moved = transform(morphed, &skins[bone]);
@@ -135,14 +131,36 @@ fn reference(scene: &Value, frame: f64) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// Vertex `v` of `base` moved by the morph targets: `p + Σ influence · (target - p)`.
+fn morphed(base: &[f64], targets: &[Value], influences: &[f64], v: usize) -> [f64; 3] {
+    core::array::from_fn(|c| {
+        let p = base[3 * v + c];
+        let deltas = targets.iter().zip(influences).map(|(t, w)| w * (numbers(&t["positions"])[3 * v + c] - p));
+        p + deltas.sum::<f64>()
+    })
+}
+
+/// The strip without its skeleton: morphed only (positions then stay in stored units until the
+/// draw's dequantization, which `posed_position` applies).
+fn morph_only_json() -> Value {
+    let mut json = scene_json();
+    let mesh = json["meshes"][0].as_object_mut().unwrap();
+    for key in ["skeletonId", "matricesIndices", "matricesWeights"] {
+        mesh.remove(key);
+    }
+    json.as_object_mut().unwrap().remove("skeletons");
+    json
+}
+
 fn scene_json() -> Value {
     serde_json::from_str(SCENE).unwrap()
 }
 
-/// The strip converted and written with positions quantized (the default) or as f32.
-fn s3d(float_positions: bool) -> Vec<u8> {
+/// `json` converted and written with positions quantized (the default) or as f32.
+fn s3d(json: &Value, float_positions: bool) -> Vec<u8> {
+    let text = json.to_string();
     let (scene, warnings) =
-        read_babylon(SCENE.as_bytes(), None, "skin-morph.babylon", &ConvertOptions::default()).unwrap();
+        read_babylon(text.as_bytes(), None, "skin-morph.babylon", &ConvertOptions::default()).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     emit(&scene, &EmitOptions { float_positions, ..EmitOptions::default() }).unwrap()
 }
@@ -171,33 +189,37 @@ fn largest_error(model: &Model<'_>, json: &Value, frame: f32) -> f64 {
 }
 
 /// The largest difference the file's quantization allows: half a position step on each axis
-/// when positions are quantized (`step`), through bones whose matrices' rows sum to at most 2
-/// here; each of a vertex's two weights rounded to 1/65535 (they then sum to 1 ± 1.5e-5) on
-/// points at most 3 units out; each morph delta rounded to 1/32767 of its target's largest (0.5
-/// here) for influences summing to at most 1.6; and 1e-6 for f32 arithmetic.
-fn tolerance(step: Option<f64>) -> f64 {
-    let position = step.map_or(0.0, |s| 0.5 * s * 2.0);
-    let weights = 2.0 * (0.5 / 65535.0) * 3.0;
+/// when positions are quantized (`step`); each morph delta rounded to 1/32767 of its target's
+/// largest (0.5 here) for influences summing to at most 1.6; both through bones whose matrices'
+/// rows sum to at most 2 here when `skinned`, which adds each of a vertex's two weights rounded
+/// to 1/65535 (they then sum to 1 ± 1.5e-5) on points at most 3 units out; and 1e-6 for f32
+/// arithmetic.
+fn tolerance(step: Option<f64>, skinned: bool) -> f64 {
+    let bones = if skinned { 2.0 } else { 1.0 };
+    let position = step.map_or(0.0, |s| 0.5 * s);
     let morph = 0.5 * (0.5 / 32767.0) * 1.6;
-    position + weights + morph + 1e-6
+    let weights = if skinned { 2.0 * (0.5 / 65535.0) * 3.0 } else { 0.0 };
+    (position + morph) * bones + weights + 1e-6
 }
 
 #[test]
 fn skinned_and_morphed_vertices_match_a_float_reference() {
-    let json = scene_json();
-    for float_positions in [false, true] {
-        let bytes = s3d(float_positions);
-        let model = Model::parse(&bytes).unwrap();
-        let step = f64::from(model.mesh(0).unwrap().dequantization().0.max_element());
-        let allowed = tolerance((!float_positions).then_some(step));
-        for frame in FRAMES {
-            let error = largest_error(&model, &json, frame);
-            println!("f32 positions {float_positions}, frame {frame}: error {error:.2e}, allowed {allowed:.2e}");
-            assert!(error <= allowed, "f32 positions {float_positions}, frame {frame}: {error:e} > {allowed:e}");
+    for (json, skinned) in [(scene_json(), true), (morph_only_json(), false)] {
+        for float_positions in [false, true] {
+            let bytes = s3d(&json, float_positions);
+            let model = Model::parse(&bytes).unwrap();
+            let step = f64::from(model.mesh(0).unwrap().dequantization().0.max_element());
+            let allowed = tolerance((!float_positions).then_some(step), skinned);
+            for frame in FRAMES {
+                let error = largest_error(&model, &json, frame);
+                let what = format!("skinned {skinned}, f32 positions {float_positions}, frame {frame}");
+                println!("{what}: error {error:.2e}, allowed {allowed:.2e}");
+                assert!(error <= allowed, "{what}: {error:e} > {allowed:e}");
+            }
+            // The pose's weights: "bulge" at its 0.6, "lean" linear from 0 at frame 0 to 1 at 20.
+            let weights = with_pose(&model, 15.0, |pose| pose.weights().to_vec());
+            assert_eq!(weights, [0.6, 0.75]);
         }
-        // The pose's weights: "bulge" at its 0.6, "lean" linear from 0 at frame 0 to 1 at 20.
-        let weights = with_pose(&model, 15.0, |pose| pose.weights().to_vec());
-        assert_eq!(weights, [0.6, 0.75]);
     }
 }
 
@@ -208,7 +230,7 @@ fn skinned_and_morphed_vertices_match_a_float_reference() {
 fn a_posed_draw_puts_each_vertex_where_the_reference_does() {
     const SIZE: u16 = 480;
     let json = scene_json();
-    let bytes = s3d(false);
+    let bytes = s3d(&json, false);
     let model = Model::parse(&bytes).unwrap();
     // 6 x 6 units around (1, 1): 80 pixels a unit.
     let camera =
