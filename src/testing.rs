@@ -10,7 +10,9 @@ pub mod math {
 pub use crate::pipeline::raster::{
     facing, step_varyings, Reject, ScreenVertex, Setup, Span, SpanSink, Window, MAX_COORD, MAX_EXTENT,
 };
-pub use crate::pipeline::{clip_triangle, ClipResult, ClipVertex, GuardBand, Polygon, MAX_VARYINGS, VARYING_FRAC};
+pub use crate::pipeline::{
+    clip_triangle, posed_position, ClipResult, ClipVertex, GuardBand, Polygon, MAX_VARYINGS, VARYING_FRAC,
+};
 pub use crate::texture::{modulate, modulate565, Repeat565, Sampler};
 
 pub mod reference {

@@ -403,6 +403,25 @@ fn a_gif_output_is_the_turntable() {
     assert_eq!(frames[0].buffer().dimensions(), (64, 48));
 }
 
+/// A scene with an animation makes a GIF of every frame of its range, at its frame rate as far
+/// as a GIF can keep it: delays are whole hundredths of a second, and browsers play those under
+/// two at a tenth of a second, so a 60 fps track gets 20 ms, not 17 (stored as 10).
+#[test]
+fn a_gif_of_an_animated_scene_plays_its_range() {
+    let slide = r#""animations":[{"property":"position.x","dataType":0,"framePerSecond":60,
+        "keys":[{"frame":0,"values":[-8]},{"frame":4,"values":[8]}]}],"#;
+    let json = tinted_square().replacen(r#""name":"s","#, &format!(r#""name":"s",{slide}"#), 1);
+    let (_, gif) = render_scene_as("gif-animation", &json, "slide.gif", &[]);
+    use image::AnimationDecoder;
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::Cursor::new(gif)).unwrap();
+    let frames = decoder.into_frames().collect_frames().unwrap();
+    assert_eq!(frames.len(), 5, "frames 0 to 4");
+    assert!(frames[0].buffer() != frames[4].buffer(), "the square moves");
+    for f in &frames {
+        assert_eq!(f.delay().numer_denom_ms(), (20, 1));
+    }
+}
+
 #[test]
 fn an_up_direction_orients_a_camera_looking_straight_down() {
     // The square lies in the xz plane under an eye at y = 40.

@@ -36,6 +36,7 @@ mod triangles;
 mod varyings;
 mod vertex;
 
+pub use posed::posed_position;
 use scratch::DrawChunks;
 pub use scratch::{Scratch, SortEntry, TransformedVertex, TriangleRows};
 pub(crate) use setup::{ClipTransform, DrawSetup, Transforms};

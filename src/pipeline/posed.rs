@@ -6,7 +6,7 @@
 use super::scratch::Digest;
 use crate::animation::{Animation, Pose};
 use crate::format::{Deforming, Model, WorldAt};
-use crate::math::Mat4;
+use crate::math::{Mat4, Vec3};
 
 /// A set pose of a model's animation.
 #[derive(Clone, Copy, Debug)]
@@ -53,4 +53,18 @@ impl<'p> Posed<'p> {
 pub(crate) fn draw_world(posed: Option<&Posed<'_>>, model: &Model<'_>, d: usize, world: WorldAt) -> Mat4 {
     let moved = posed.filter(|_| d < model.mesh_count()).and_then(|p| p.mesh_world(d));
     moved.unwrap_or_else(|| model.world(world))
+}
+
+/// Vertex `i` of mesh `mesh` as a posed draw reads it (morph deltas, then the skin's blend of
+/// bone matrices: `format::deform`), in the mesh's local units before its world matrix (what
+/// `Transforms::new` multiplies); `None` when `pose` does not deform that mesh. For the tests'
+/// float reference only (`testing`): the vertex stage's own results are not public.
+#[must_use]
+pub fn posed_position(model: &Model<'_>, pose: &Pose<'_>, mesh: usize, i: u32) -> Option<Vec3> {
+    let posed = Posed { pose, animation: model.animation()? };
+    let deforming = posed.deforming(model, mesh)?;
+    let m = model.mesh(mesh)?;
+    let p = m.arrays().morphed(&deforming).position_stored(i);
+    // A skinned position is in local units already; a morphed one in stored units.
+    Some(if deforming.skin.is_some() { p } else { m.dequantize().transform_point3(p) })
 }

@@ -103,7 +103,9 @@ fn playback(model: &Model<'_>, view: &View, args: &RenderArgs) -> Playback {
     let to = groups.iter().map(|g| g.range().1).fold(f32::NEG_INFINITY, f32::max);
     let fps = groups.iter().flat_map(|g| g.tracks()).find_map(|t| a.track(t)).map_or(30.0, |t| t.fps());
     let frames = ((to - from).max(0.0) as u32 + 1).min(MAX_GIF_FRAMES);
-    Playback { frames, delay_ms: (1000.0 / fps).round().max(10.0) as u32, animation: Some((from, group)) }
+    // A GIF's delay is whole hundredths of a second, and browsers play one under 2 (20 ms) at
+    // 100 ms: a 60 fps animation is played at 50 frames a second rather than at 10.
+    Playback { frames, delay_ms: (1000.0 / fps).round().max(20.0) as u32, animation: Some((from, group)) }
 }
 
 pub(crate) fn write_gif(path: &Path, model: &Model<'_>, view: &View, args: &RenderArgs) -> Result<()> {
