@@ -159,10 +159,8 @@ fn a_looping_group_starts_again_and_another_stays_at_its_end() {
 
 /// Babylon.js plays a track whose `loopBehavior` is 2 (constant) in a looping group at its last
 /// value once the group has gone round (`_interpolate` returns `highLimitValue` when
-/// `repeatCount > 0`); soft3d keeps the mode in the file (`Track::loop_mode`) but `Pose` wraps
-/// every track of a looping group.
+/// `repeatCount > 0`); `Pose` plays it so.
 #[test]
-#[ignore = "soft3d does not play a track's loopBehavior: a constant track of a looping group wraps"]
 fn a_constant_track_of_a_looping_group_stays_at_its_end() {
     let bytes = s3d(KEYS);
     let model = Model::parse(&bytes).unwrap();
@@ -170,6 +168,32 @@ fn a_constant_track_of_a_looping_group_stays_at_its_end() {
     let node = node_of(&model, "constant");
     let x = worlds(&model, 13.0, a.group_named("constant"))[node].w_axis.x;
     assert!((x - 10.0).abs() < 1e-5, "constant at 13: {x}, Babylon.js 10");
+}
+
+/// A relative track (`loopBehavior` 0) of a looping group starts each round where the last
+/// ended: at frame 13 of a 0-10 group going from 0 to 10, 10 + 3.
+#[test]
+fn a_relative_track_of_a_looping_group_adds_each_round() {
+    let bytes = s3d(KEYS);
+    let model = Model::parse(&bytes).unwrap();
+    let a = model.animation().unwrap();
+    let node = node_of(&model, "relative");
+    for (frame, want) in [(5.0, 5.0), (13.0, 13.0), (27.5, 27.5)] {
+        let x = worlds(&model, frame, a.group_named("relative"))[node].w_axis.x;
+        assert!((x - want).abs() < 1e-4, "relative at {frame}: {x}, Babylon.js {want}");
+    }
+}
+
+/// A span whose first key has an out tangent but whose last has no in tangent is linear, as
+/// Babylon.js interpolates it (`useTangent` needs both): x at frame 5 is 5, not the Hermite
+/// value with a zero in tangent (6.875 with the out tangent 30 scaled by the gap: 2.5 + ...).
+#[test]
+fn a_span_without_both_tangents_is_linear() {
+    let bytes = s3d(KEYS);
+    let model = Model::parse(&bytes).unwrap();
+    let node = node_of(&model, "half-hermite");
+    let x = worlds(&model, 5.0, None)[node].w_axis.x;
+    assert!((x - 5.0).abs() < 1e-5, "half-hermite at 5: {x}, Babylon.js 5 (linear)");
 }
 
 /// Babylon.js's `Matrix.FromQuaternion` rows (row vectors: a point is `p · R`), in f64.

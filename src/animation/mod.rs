@@ -97,7 +97,7 @@ impl<'s> Pose<'s> {
         for g in groups.filter_map(|g| animation.group(g)) {
             let at = group_frame(&g, frame);
             for t in g.tracks().filter_map(|t| animation.track(t)) {
-                self.apply(&t, keys::value_at(&t, at, matches!(t.target(), TrackTarget::Quaternion(_))));
+                self.apply(&t, track_value(&t, g.range(), at));
             }
         }
         self.compose(animation);
@@ -198,14 +198,34 @@ impl<'s> Pose<'s> {
     }
 }
 
-/// `frame` within `group`'s range: wrapped when it loops, else clamped.
-fn group_frame(group: &Group<'_>, frame: f32) -> f32 {
+/// `frame` within `group`'s range and the times the group has gone round to reach it: wrapped
+/// when it loops, else clamped (and 0).
+fn group_frame(group: &Group<'_>, frame: f32) -> (f32, f32) {
     let (from, to) = group.range();
     let length = to - from;
     if frame > to && group.loops() && length > 0.0 {
-        from + crate::math::fmod(frame - from, length)
+        let repeats = crate::math::floor_to_i32((frame - from) / length) as f32;
+        (from + crate::math::fmod(frame - from, length), repeats)
     } else {
-        frame.clamp(from, to.max(from))
+        (frame.clamp(from, to.max(from)), 0.0)
+    }
+}
+
+/// Babylon.js's loop behaviours (`Animation.ANIMATIONLOOPMODE_*`, as [`Track::loop_mode`]).
+const LOOP_RELATIVE: u8 = 0;
+const LOOP_CONSTANT: u8 = 2;
+
+/// `track`'s value at `(frame, repeats)` of a group's `(from, to)` (see [`group_frame`]), as
+/// Babylon.js's `RuntimeAnimation` plays it once the group has gone round: a cycling track
+/// starts again, a constant one holds its value at `to`, a relative one starts again from
+/// where the last round ended (its value plus `repeats` times the change over the range).
+fn track_value(track: &Track<'_>, (from, to): (f32, f32), (frame, repeats): (f32, f32)) -> Vec4 {
+    let quaternion = matches!(track.target(), TrackTarget::Quaternion(_));
+    let at = |f: f32| keys::value_at(track, f, quaternion);
+    match track.loop_mode() {
+        LOOP_CONSTANT if repeats > 0.0 => at(to),
+        LOOP_RELATIVE if repeats > 0.0 => at(frame) + (at(to) - at(from)) * repeats,
+        _ => at(frame),
     }
 }
 
