@@ -50,6 +50,10 @@ pub enum Part {
     Group,
     /// A skin record, its bones or its vertices' influences.
     Skin,
+    /// The animated camera record.
+    AnimatedCamera,
+    /// An animated light record.
+    AnimatedLight,
 }
 
 impl fmt::Display for Part {
@@ -76,6 +80,8 @@ impl fmt::Display for Part {
             Part::Track => "animation track",
             Part::Group => "animation group",
             Part::Skin => "skin",
+            Part::AnimatedCamera => "animated camera record",
+            Part::AnimatedLight => "animated light record",
         };
         f.write_str(name)
     }
