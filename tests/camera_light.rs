@@ -342,6 +342,15 @@ fn unplayable_camera_and_light_tracks_say_why() {
     );
     let (_, warnings) = read_text(&quad_with(&locked, ""));
     assert!(has(&warnings, &["animations[0]", "looks at its locked target"]), "{warnings:?}");
+    // The active camera ignored (it looks at its own position): its animations too.
+    let blind =
+        format!(r#"{{"id":"c","position":[0,0,0],"target":[0,0,0],"animations":[{}]}}"#, track("fov", "0.8", "1"));
+    let (scene, warnings) = read_text(&quad_with(&blind, ""));
+    assert!(scene.camera.is_none() && scene.animation.tracks.is_empty());
+    assert!(
+        has(&warnings, &["camera \"c\": the active camera, ignored: its animations are not played"]),
+        "{warnings:?}"
+    );
 }
 
 /// `.s3d` files written before camera and light animations (version 2, header flags 0, a

@@ -74,6 +74,7 @@ impl Reader<'_> {
                 "{}: its position is its target, so it was ignored (the fitted camera is used)",
                 cx.what
             ));
+            self.view.ignored_camera = stored.node;
             return Ok(());
         }
         let near = scalar(c, "minZ", 1.).map_err(e)?;

@@ -76,6 +76,8 @@ pub(super) struct StoredCamera {
 pub(super) struct Stored {
     pub(super) lights: Vec<StoredLight>,
     pub(super) camera: Option<StoredCamera>,
+    /// The node of the active camera when it was ignored (it looks at its own position).
+    pub(super) ignored_camera: Option<usize>,
 }
 
 /// A stored camera or light a track may move.
@@ -154,7 +156,7 @@ impl<'a> Reader<'a> {
             None if n.movable => Ok(None),
             None => {
                 let kind = if n.what.starts_with("camera") { "camera" } else { "light" };
-                Err(format!("{}: {}: its animations are not played", n.what, not_played(kind)))
+                Err(format!("{}: {}: its animations are not played", n.what, self.not_played(kind, Some(node))))
             }
         }
     }
@@ -166,12 +168,16 @@ impl<'a> Reader<'a> {
         for (array, kind) in [("cameras", "camera"), ("lights", "light")] {
             for (i, obj) in list(root, array).map_err(|m| self.ctx("scene").err(m))?.iter().enumerate() {
                 let what = label(obj, kind, array, i);
-                let view = self.node_of(obj).and_then(|n| self.view_of_node(n));
+                let node = self.node_of(obj);
+                let view = node.and_then(|n| self.view_of_node(n));
                 let animations = list(obj, "animations").map_err(|m| self.ctx(what.clone()).err(m))?;
                 match view {
                     Some(view) => self.read_own_view_tracks(obj, view, &what, read)?,
                     None if animations.is_empty() => {}
-                    None => self.warn(format!("{what}: {}: its animations are not played", not_played(kind))),
+                    None => {
+                        let why = self.not_played(kind, node);
+                        self.warn(format!("{what}: {why}: its animations are not played"));
+                    }
                 }
             }
         }
@@ -296,11 +302,15 @@ impl<'a> Reader<'a> {
     }
 }
 
-/// Why a camera's or light's animations are not played (`kind`: "camera" or "light").
-fn not_played(kind: &str) -> &'static str {
-    if kind == "camera" {
-        "not the active camera"
-    } else {
-        "a light soft3d does not draw"
+impl Reader<'_> {
+    /// Why the animations of the camera or light (`kind`) at `node` are not played.
+    fn not_played(&self, kind: &str, node: Option<usize>) -> &'static str {
+        if kind != "camera" {
+            "a light soft3d does not draw"
+        } else if node.is_some() && node == self.view.ignored_camera {
+            "the active camera, ignored"
+        } else {
+            "not the active camera"
+        }
     }
 }
