@@ -66,7 +66,7 @@ impl Reader<'_> {
         let (position, target) = (transform(&world, position, 1.), transform(&world, target, 1.));
         let distance = libm::sqrtf((0..3).map(|k| (target[k] - position[k]) * (target[k] - position[k])).sum());
         let quaternion = vector::<4>(c, "rotationQuaternion").map_err(e)?.is_some();
-        let node = self.node_of(c);
+        let node = self.node_of("cameras", i);
         let stored = StoredCamera { node, world, orbits, locked, quaternion, rotation, distance };
         if position == target {
             // Nowhere to look: Babylon.js would draw nothing either.

@@ -44,7 +44,7 @@ impl Reader<'_> {
             let vector3 = vector(l, key).map_err(e)?.or(data).unwrap_or(default);
             let parent = self.parent(l, &cx.what)?;
             let world = self.parent_world(parent)?;
-            let node = self.node_of(l);
+            let node = self.node_of("lights", i);
             self.view.lights.push(StoredLight { node, kind, world });
             self.scene.lights.push(LightData {
                 kind,

@@ -78,6 +78,9 @@ pub(super) struct Stored {
     pub(super) camera: Option<StoredCamera>,
     /// The node of the active camera when it was ignored (it looks at its own position).
     pub(super) ignored_camera: Option<usize>,
+    /// The nodes of `cameras[0]` and `lights[0]` (see `Reader::node_of`).
+    pub(super) cameras_at: usize,
+    pub(super) lights_at: usize,
 }
 
 /// A stored camera or light a track may move.
@@ -133,9 +136,11 @@ fn to_world(curve: &mut Curve, world: &Matrix, w: f32, (first, count): (u8, u8))
 }
 
 impl<'a> Reader<'a> {
-    /// The node whose object is `obj`.
-    pub(super) fn node_of(&self, obj: &Value) -> Option<usize> {
-        self.nodes.iter().position(|n| core::ptr::eq(n.obj, obj))
+    /// The node of `cameras[i]` (`array` "cameras") or `lights[i]` (`node` adds them in order,
+    /// after the meshes and transform nodes).
+    pub(super) fn node_of(&self, array: &str, i: usize) -> Option<usize> {
+        let first = if array == "cameras" { self.view.cameras_at } else { self.view.lights_at };
+        Some(first + i).filter(|&n| n < self.nodes.len())
     }
 
     /// The stored camera or light drawn from node `node`.
@@ -168,7 +173,7 @@ impl<'a> Reader<'a> {
         for (array, kind) in [("cameras", "camera"), ("lights", "light")] {
             for (i, obj) in list(root, array).map_err(|m| self.ctx("scene").err(m))?.iter().enumerate() {
                 let what = label(obj, kind, array, i);
-                let node = self.node_of(obj);
+                let node = self.node_of(array, i);
                 let view = node.and_then(|n| self.view_of_node(n));
                 let animations = list(obj, "animations").map_err(|m| self.ctx(what.clone()).err(m))?;
                 match view {
