@@ -7,8 +7,9 @@
 //! cargo run --release --example simulator -- scene.babylon    # another scene (.babylon or .s3d)
 //! ```
 //!
-//! A scene with animations (node tracks, morph targets, skeletons) plays them all at their
-//! frame rate, looping, instead of turning: every band of a frame drawn with one `Pose`.
+//! A scene with animations (node tracks, morph targets, skeletons, its camera and lights)
+//! plays them all at their frame rate, looping, instead of turning: every band of a frame
+//! drawn with one `Pose`, and the scene's camera and lights where the pose puts them.
 //!
 //! Window keys: `1` unlit, `2` flat, `3` Gouraud, `4` Phong, `5` wireframe, `6` points,
 //! `7` solid + wireframe, `f` nearest/bilinear, `b` band height (240/120/48/30/1 rows),
@@ -137,6 +138,8 @@ impl Look {
 struct Scene<'a> {
     model: Model<'a>,
     camera: Camera,
+    /// Whether `camera` is the scene's own (then its animation moves it).
+    own_camera: bool,
     lights: Lights<4>,
     /// The model turns about the vertical axis through this point.
     pivot: Vec3,
@@ -271,6 +274,7 @@ fn render_frame<T: DrawTarget<Color = Rgb565>>(
     if let (Some(a), Some(f)) = (animation, frame) {
         pose.evaluate(&a, f, None).expect("memory sized by pose_memory");
     }
+    let (camera, lights) = posed_view(scene, &pose);
     let transform = if scene.pivot == Vec3::ZERO {
         Mat4::from_rotation_y(angle)
     } else {
@@ -284,7 +288,7 @@ fn render_frame<T: DrawTarget<Color = Rgb565>>(
         let mut band = Band::new(&mut buffers.color[..n], &mut buffers.depth[..n], WIDTH, HEIGHT, first_row)
             .expect("the band buffers hold the tallest band");
         band.clear(BACKGROUND);
-        stats += soft3d::Renderer::new(&scene.camera, &scene.lights, settings.opts)
+        stats += soft3d::Renderer::new(&camera, &lights, settings.opts)
             .draw_posed(&mut band, &scene.model, &pose, transform, &mut soft3d::Scratch::none())
             .unwrap();
         // `Band` is a DrawTarget in frame coordinates, and drawing into it cannot fail.
@@ -293,6 +297,18 @@ fn render_frame<T: DrawTarget<Color = Rgb565>>(
         first_row += rows;
     }
     Ok(stats)
+}
+
+/// The scene's camera and lights at `pose`: where its tracks put them (the demo's own camera
+/// stays), as they are when the pose is not set.
+fn posed_view(scene: &Scene<'_>, pose: &soft3d::animation::Pose<'_>) -> (Camera, Lights<4>) {
+    let mut lights = Lights::from_model_posed(&scene.model, pose);
+    lights.ambient = scene.lights.ambient;
+    let still = scene.model.camera().filter(|_| scene.own_camera);
+    let posed = still.zip(scene.model.animation()).map(|(c, a)| pose.camera(&a, c));
+    // A degenerate camera at some frame keeps the still one.
+    let camera = posed.and_then(|c| Camera::from_scene(&c, WIDTH as f32 / HEIGHT as f32).ok());
+    (camera.unwrap_or(scene.camera), lights)
 }
 
 fn main() -> ExitCode {
@@ -322,7 +338,9 @@ fn run(args: &Args) -> Result<(), String> {
     // Suzanne sits at the origin; other scenes turn about the centre of their bounds.
     let pivot = if tutorial { Vec3::ZERO } else { model.bounds().map_or(Vec3::ZERO, |(c, _)| c) };
     let playback = Playback::of(&model);
-    let scene = Scene { camera: camera(&model, tutorial, args.fit)?, lights: lights(&model), pivot, model, playback };
+    let own_camera = !tutorial && !args.fit && model.camera().is_some();
+    let camera = camera(&model, tutorial, args.fit)?;
+    let scene = Scene { camera, own_camera, lights: lights(&model), pivot, model, playback };
     // The scene's own fog, as Babylon.js draws it.
     let mut opts = RenderOptions { dither: args.dither, fog: scene.model.fog(), ..RenderOptions::default() };
     opts.filter = if args.bilinear { Filter::Bilinear } else { Filter::Nearest };

@@ -13,6 +13,7 @@
 
 use heapless::Vec;
 
+use crate::animation::Pose;
 use crate::fixed::FDot14;
 use crate::format::{Light, LightKind, Model};
 use crate::math::{clamp01, max, normalize_or_zero, Mat3, Vec3};
@@ -70,6 +71,19 @@ impl<const N: usize> Lights<N> {
         if set.lights.is_empty() {
             let _ =
                 set.push(Light { kind: LightKind::Hemispheric, vector: Vec3::Y, diffuse: Vec3::ONE, intensity: 1.0 });
+        }
+        set
+    }
+
+    /// [`Lights::from_model`] at a pose: each of the model's lights where the pose's tracks
+    /// put it ([`Pose::light`]; as stored when the pose is not set or nothing moves it).
+    #[must_use]
+    pub fn from_model_posed(model: &Model<'_>, pose: &Pose<'_>) -> Self {
+        let mut set = Self::from_model(model);
+        if let Some(animation) = model.animation() {
+            for (i, light) in set.lights.iter_mut().enumerate().take(model.light_count()) {
+                *light = pose.light(&animation, i, *light);
+            }
         }
         set
     }

@@ -176,6 +176,7 @@ fn moving_cube(looping: bool) -> Vec<u8> {
             },
         ],
         groups: vec![GroupData { name: "move".into(), from: 0.0, to: 10.0, looping, tracks: vec![0, 1] }],
+        camera_aim: CameraAim::Target,
     };
     emit(&scene, &EmitOptions::default()).unwrap()
 }

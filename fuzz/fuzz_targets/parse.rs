@@ -2,12 +2,14 @@
 //!
 //! A model with an animation section (`.s3d` version 2) also has every accessor of its
 //! animation called (nodes, links, morphs and their deltas, skins and their bones and
-//! influences, tracks and their keys, groups; indices past the last too) and what
-//! `Model::parse` promised about them checked; a pose evaluated at frames taken from the input
+//! influences, the animated camera and lights, tracks and their keys, groups; indices past the
+//! last too) and what `Model::parse` promised about them checked; a pose evaluated at frames
+//! taken from the input
 //! (any bit pattern, NaN, infinities, huge, around a group's range), for every group at once,
 //! one group, and groups past the last; pose memory sized by `pose_memory` (node matrices, bone
 //! matrices, weights), one entry too small (`PoseError::TooSmall`, the pose left unset) and
-//! larger; and the model drawn posed (set and unset) in two bands sharing a scratch. Counts are
+//! larger; the pose's camera and lights read (the stored ones when unset); and the model drawn
+//! posed (set and unset, with the posed lights) in two bands sharing a scratch. Counts are
 //! u16 and tables may share records, so the accessor walk is bounded ([`BUDGET`]) to keep every
 //! input fast.
 #![no_main]
@@ -99,6 +101,16 @@ fn accessors(model: &Model<'_>, animation: &Animation<'_>) {
             }
             TrackTarget::Quaternion(n) => assert!((n as usize) < nodes && first == 0 && count == 4),
             TrackTarget::Influence(w) => assert!((w as usize) < weights && first == 0 && count == 1),
+            TrackTarget::CameraPosition | TrackTarget::CameraTarget | TrackTarget::CameraRotation => {
+                assert!(animation.camera().is_some() && count >= 1 && first + count <= 3);
+            }
+            TrackTarget::CameraFov => assert!(animation.camera().is_some() && first == 0 && count == 1),
+            TrackTarget::LightVector(l) | TrackTarget::LightDiffuse(l) => {
+                assert!(animation.animated_light_of(l as usize).is_some() && count >= 1 && first + count <= 3);
+            }
+            TrackTarget::LightIntensity(l) => {
+                assert!(animation.animated_light_of(l as usize).is_some() && first == 0 && count == 1);
+            }
         }
         assert!(track.loop_mode() <= 2);
         let tangents = track.has_tangents();
@@ -199,6 +211,8 @@ fn accessors(model: &Model<'_>, animation: &Animation<'_>) {
     }
     assert!(animation.morph_at(morphs).is_none() && animation.morph_at(usize::MAX).is_none());
 
+    view(model, animation, &mut spend);
+
     let mut last_mesh = None;
     for i in 0..skins {
         if !spend(1) {
@@ -251,6 +265,56 @@ fn accessors(model: &Model<'_>, animation: &Animation<'_>) {
     }
 }
 
+/// The animated camera and lights, with what `Model::parse` checked asserted.
+fn view(model: &Model<'_>, animation: &Animation<'_>, spend: &mut impl FnMut(usize) -> bool) {
+    let weights = animation.weight_count();
+    if let Some(c) = animation.camera() {
+        assert!(model.camera().is_some(), "an animated camera needs a camera record");
+        let _ = c.aim();
+        assert!(c.slots().len() == 10 && c.slots().end <= weights);
+        assert!(c.position().is_finite() && c.target().is_finite() && c.rotation().is_finite());
+        assert!(c.fov() > 0.0 && c.fov() < core::f32::consts::PI && c.distance() >= 0.0);
+    }
+    let mut last = None;
+    for i in 0..animation.animated_light_count() {
+        if !spend(1) {
+            break;
+        }
+        let l = animation.animated_light(i).expect("an animated light below the count");
+        let light = l.light();
+        assert!(light < model.light_count() && last.is_none_or(|last| last < light), "lights by increasing light");
+        last = Some(light);
+        assert!(l.slots().len() == 7 && l.slots().end <= weights);
+        assert!(l.vector().is_finite() && l.diffuse().is_finite() && l.intensity().is_finite());
+        if spend(8) {
+            assert_eq!(animation.animated_light_of(light).map(|l| l.light()), Some(light));
+        }
+    }
+    let n = animation.animated_light_count();
+    assert!(animation.animated_light(n).is_none() && animation.animated_light(usize::MAX).is_none());
+    assert!(animation.animated_light_of(usize::MAX).is_none());
+}
+
+/// The pose's camera and lights: the stored ones when the pose is not set (`set` false).
+fn posed_view(model: &Model<'_>, animation: &Animation<'_>, pose: &Pose<'_>, set: bool) {
+    if let Some(still) = model.camera() {
+        let c = pose.camera(animation, still);
+        assert!(c.near == still.near && c.far == still.far);
+        if !set || animation.camera().is_none() {
+            assert_eq!(c, still);
+        }
+        let _ = Camera::from_scene(&c, 1.0);
+    }
+    for (i, still) in model.lights().enumerate().take(64) {
+        let l = pose.light(animation, i, still);
+        assert_eq!(l.kind, still.kind);
+        if !set || animation.animated_light_of(i).is_none() {
+            assert_eq!(l, still);
+        }
+    }
+    let _ = pose.light(animation, usize::MAX, Lights::<1>::point(Vec3::ZERO, 1.0));
+}
+
 /// Poses at frames and groups taken from `hash`, in memory too small (drawn unset), of
 /// `pose_memory`'s size (one set pose drawn) and larger.
 fn poses(model: &Model<'_>, animation: &Animation<'_>, hash: u64) {
@@ -285,6 +349,7 @@ fn poses(model: &Model<'_>, animation: &Animation<'_>, hash: u64) {
             assert!(!err.to_string().is_empty());
             assert_unset(&pose, nodes);
         }
+        posed_view(model, animation, &pose, false);
         draw_posed(model, &pose);
     }
 
@@ -302,6 +367,7 @@ fn poses(model: &Model<'_>, animation: &Animation<'_>, hash: u64) {
                     assert!((0..nodes.min(BUDGET)).all(|i| pose.node_world(i).is_some()));
                     assert!(pose.node_world(nodes).is_none() && pose.node_world(usize::MAX).is_none());
                     assert_eq!(pose.palette().len(), bones);
+                    posed_view(model, animation, &pose, true);
                 }
                 Err(PoseError::NoSuchGroup(g)) => {
                     assert!(Some(g) == group && g >= groups);
@@ -338,7 +404,7 @@ fn draw_posed(model: &Model<'_>, pose: &Pose<'_>) {
         .bounds()
         .and_then(|(c, r)| Camera::perspective(c - Vec3::Z * 3.0 * r, c, 0.8, 1.0, 0.1 * r, 10.0 * r).ok())
         .unwrap_or_else(|| Camera::perspective(Vec3::new(0.0, 0.0, -4.0), Vec3::ZERO, 0.8, 1.0, 0.1, 100.0).unwrap());
-    let lights = Lights::<2>::from_model(model);
+    let lights = Lights::<2>::from_model_posed(model, pose);
     let renderer = Renderer::new(&camera, &lights, RenderOptions::default());
     let (triangles, vertices) = model.draw_counts();
     let mut rows = vec![TriangleRows::UNKNOWN; triangles.min(1 << 16)];

@@ -13,10 +13,17 @@
 //! (see `convert::scene::AnimationData`). Bones are nodes too (in their mesh's space): after
 //! the nodes, a pose's matrices hold each skin's bone matrices, `World(bone) · inverse bind`
 //! (its palette), which the vertex stage blends by each vertex's four weights.
+//!
+//! The camera and lights move too, where the file animates them: their tracks' values are kept
+//! in the pose's weights after the morph weights (`view`), and [`Pose::camera`] and
+//! [`Pose::light`] give the model's camera and lights at the frame, for the caller to build its
+//! [`Camera`](crate::Camera) and [`Lights`](crate::Lights) with (as
+//! [`Lights::from_model_posed`](crate::Lights::from_model_posed) does).
 
 mod keys;
+mod view;
 
-pub use crate::format::{Animation, Group, Morph, Node, Skin, Track, TrackTarget};
+pub use crate::format::{Aim, AnimatedCamera, AnimatedLight, Animation, Group, Morph, Node, Skin, Track, TrackTarget};
 
 use crate::math::{Mat3, Mat4, Vec3, Vec4};
 
@@ -24,11 +31,11 @@ use crate::math::{Mat3, Mat4, Vec3, Vec4};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PoseError {
     /// The pose's memory is too small for the model: it needs `nodes` matrices and `weights`
-    /// morph weights ([`Pose::new`]).
+    /// weights ([`Pose::new`]).
     TooSmall {
         /// Matrices needed (one an animated node and one a bone of each skin).
         nodes: usize,
-        /// Weights needed (one a morph target).
+        /// Weights needed (one a morph target, then the animated camera's and lights' slots).
         weights: usize,
     },
     /// There is no group with that index.
@@ -39,25 +46,27 @@ impl core::fmt::Display for PoseError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             PoseError::TooSmall { nodes, weights } => {
-                write!(f, "pose memory too small: the model needs {nodes} node matrices and {weights} morph weights")
+                write!(f, "pose memory too small: the model needs {nodes} node matrices and {weights} weights")
             }
             PoseError::NoSuchGroup(g) => write!(f, "the model has no animation group {g}"),
         }
     }
 }
 
-/// The matrices (one a node, one a bone of each skin) and weights (one a morph target) a
-/// [`Pose`] of a model with `nodes` animated nodes, `bones` skin bones and `weights` morph
-/// targets needs: what `convert::build_script_convert` writes as constants for a converted
-/// scene (and [`Animation::node_count`], [`Animation::palette_count`] and
-/// [`Animation::weight_count`] say at run time).
+/// The matrices (one a node, one a bone of each skin) and weights (one a morph target, and
+/// the slots of an animated camera and lights) a [`Pose`] of a model with `nodes` animated
+/// nodes, `bones` skin bones and `weights` weights needs: what
+/// `convert::build_script_convert` writes as constants for a converted scene (and
+/// [`Animation::node_count`], [`Animation::palette_count`] and [`Animation::weight_count`]
+/// say at run time).
 #[must_use]
 pub const fn pose_memory(nodes: usize, bones: usize, weights: usize) -> (usize, usize) {
     (nodes.saturating_add(bones), weights)
 }
 
-/// A model's pose at one frame: the world matrix of each animated node and the weight of each
-/// morph target, in memory the caller owns. Every band of a frame draws the same pose.
+/// A model's pose at one frame: the world matrix of each animated node, the weight of each
+/// morph target and the animated camera's and lights' values, in memory the caller owns.
+/// Every band of a frame draws the same pose.
 #[derive(Debug)]
 pub struct Pose<'s> {
     /// The animated nodes' world matrices, then the skins' bone matrices (the palette).
@@ -93,13 +102,18 @@ impl<'s> Pose<'s> {
             return Err(PoseError::NoSuchGroup(g));
         }
         self.rest(animation);
+        self.rest_view(animation);
         let groups = group.map_or(0..animation.group_count(), |g| g..g + 1);
         for g in groups.filter_map(|g| animation.group(g)) {
             let at = group_frame(&g, frame);
             for t in g.tracks().filter_map(|t| animation.track(t)) {
-                self.apply(&t, track_value(&t, g.range(), at));
+                let value = track_value(&t, g.range(), at);
+                if !self.apply_view(animation, &t, value) {
+                    self.apply(&t, value);
+                }
             }
         }
+        self.aim_camera(animation);
         self.compose(animation);
         self.bone_matrices(animation);
         self.set = (n, animation.palette_count(), w);
@@ -136,6 +150,8 @@ impl<'s> Pose<'s> {
             TrackTarget::Position(n) => (0, n),
             TrackTarget::Rotation(n) | TrackTarget::Quaternion(n) => (1, n),
             TrackTarget::Scaling(n) => (2, n),
+            // The camera's and lights' (`apply_view`).
+            _ => return,
         };
         let Some(slot) = self.nodes.get_mut(node as usize) else { return };
         // Babylon.js ignores `rotation` while a node has a `rotationQuaternion`.
@@ -191,7 +207,8 @@ impl<'s> Pose<'s> {
         self.nodes.get(self.set.0..self.set.0 + self.set.1).unwrap_or(&[])
     }
 
-    /// The morph weights, when the pose is set (empty otherwise).
+    /// The weights (morph weights, then the camera's and lights' slots), when the pose is set
+    /// (empty otherwise).
     #[must_use]
     pub fn weights(&self) -> &[f32] {
         self.weights.get(..self.set.2).unwrap_or(&[])

@@ -110,12 +110,12 @@ pub fn build_script_convert(
     let bytes = emit(&scene, emit_opts).map_err(|source| BuildError::Emit { path: input.to_path_buf(), source })?;
     let a = &scene.animation;
     let bones = a.skins.iter().map(|s| s.bones.len()).sum();
-    let (nodes, weights) =
-        crate::animation::pose_memory(a.nodes.len(), bones, a.morphs.iter().map(|m| m.targets.len()).sum());
+    let weights = super::emit_view::ViewSlots::of(a).end;
+    let (nodes, weights) = crate::animation::pose_memory(a.nodes.len(), bones, weights);
     let constants = std::format!(
         "// Written by soft3d::convert::build_script_convert for {}.\n\
          /// Matrices a `soft3d::animation::Pose` of this scene needs.\npub const POSE_MATRICES: usize = {nodes};\n\
-         /// Morph weights a `soft3d::animation::Pose` of this scene needs.\npub const POSE_WEIGHTS: usize = {weights};\n",
+         /// Weights (morph targets, animated camera and lights) a `soft3d::animation::Pose` of this scene needs.\npub const POSE_WEIGHTS: usize = {weights};\n",
         input.display()
     );
     write_atomically(output, &bytes)?;

@@ -1,12 +1,13 @@
 //! The animation half of the `.s3d` writer: [`emit_animation`] writes a scene's
-//! [`AnimationData`] in `format`'s layout (the section the header's offset 48..52 points at),
-//! [`read_animation`] reads it back, and [`morph_reach`] gives the points a morphed mesh's
-//! bounding sphere must hold.
+//! [`AnimationData`] in `format`'s layout (the section the header's offset 48..52 points at;
+//! its animated camera and lights are `emit_view`'s), [`read_animation`] reads it back, and
+//! [`morph_reach`] gives the points a morphed mesh's bounding sphere must hold.
 
 use std::string::String;
 use std::vec::Vec;
 
 use super::emit::{EmitError, Out};
+use super::emit_view::{self, ViewSlots};
 use super::scene::{self, AnimationData, Loop, NodeProperty, Rotation, Scene, SkinData, TrackTarget};
 use crate::animation::{Animation, TrackTarget as StoredTarget};
 use crate::format::layout::*;
@@ -27,15 +28,15 @@ pub(super) fn emit_animation(out: &mut Out, scene: &Scene) -> Result<u32, EmitEr
     let count = |n: usize, what: &str| {
         u16::try_from(n).ok().filter(|&n| n != NONE).ok_or_else(|| EmitError(std::format!("too many {what}: {n}")))
     };
-    let weights: usize = a.morphs.iter().map(|m| m.targets.len()).sum();
-    let at = out.reserve(animation::LEN);
+    let slots = ViewSlots::of(a);
+    let at = out.reserve(if slots.any() { animation::LEN_EXTENDED } else { animation::LEN });
     let counts = [
         (animation::NODE_COUNT, count(a.nodes.len(), "animated nodes")?),
         (animation::LINK_COUNT, count(a.links.len(), "mesh links")?),
         (animation::MORPH_COUNT, count(a.morphs.len(), "morphed meshes")?),
         (animation::TRACK_COUNT, count(a.tracks.len(), "tracks")?),
         (animation::GROUP_COUNT, count(a.groups.len(), "animation groups")?),
-        (animation::WEIGHT_COUNT, count(weights, "morph targets")?),
+        (animation::WEIGHT_COUNT, count(slots.end, "weights (morph targets and slots)")?),
         (animation::SKIN_COUNT, count(a.skins.len(), "skins")?),
         (animation::PALETTE_COUNT, count(a.skins.iter().map(|s| s.bones.len()).sum(), "skin bones")?),
     ];
@@ -60,6 +61,7 @@ pub(super) fn emit_animation(out: &mut Out, scene: &Scene) -> Result<u32, EmitEr
     out.put_u32(at + animation::GROUPS.start, groups);
     let skins = emit_skins(out, scene)?;
     out.put_u32(at + animation::SKINS.start, skins);
+    emit_view::emit_view(out, at, scene, &slots)?;
     Ok(at as u32)
 }
 
@@ -85,7 +87,7 @@ fn check_finite(a: &AnimationData) -> Result<(), EmitError> {
     });
     let groups = a.groups.iter().flat_map(|g| [g.from, g.to]);
     let links = a.links.iter().flat_map(|l| l.below);
-    let fps = a.tracks.iter().map(|t| t.fps);
+    let fps = a.tracks.iter().map(|t| t.fps).chain(emit_view::aim_numbers(a.camera_aim));
     let skins = a
         .skins
         .iter()
@@ -206,6 +208,7 @@ fn emit_tracks(out: &mut Out, a: &AnimationData) -> Result<u32, EmitError> {
                 let base = *weight_base.get(morph as usize).filter(|_| (target as usize) < targets).ok_or_else(bad)?;
                 (track::KIND_INFLUENCE, 0, 1, u16::try_from(base + target as usize).map_err(|_| bad())?)
             }
+            view => emit_view::track_fields(view).ok_or_else(bad)?,
         };
         // Tangents are stored for a whole track when a key has one (zeros where a key has
         // none, with a key flag saying so).
@@ -361,7 +364,8 @@ pub(super) fn read_animation(model: &Model<'_>) -> AnimationData {
         })
         .collect();
     let (morphs, tracks, groups) = (read_morphs(model, &a), read_tracks(&a), read_groups(&a));
-    AnimationData { nodes, links, morphs, tracks, groups, skins: read_skins(model, &a) }
+    let camera_aim = emit_view::read_camera_aim(&a);
+    AnimationData { nodes, links, morphs, tracks, groups, skins: read_skins(model, &a), camera_aim }
 }
 
 fn read_skins(model: &Model<'_>, a: &Animation<'_>) -> Vec<SkinData> {
@@ -417,6 +421,9 @@ fn read_tracks(a: &Animation<'_>) -> Vec<scene::TrackData> {
                 StoredTarget::Influence(w) => {
                     let (morph, range) = morph_of_weight(w as usize).unwrap_or((0, 0..0));
                     TrackTarget::Morph { morph: morph as u16, target: (w as usize - range.start) as u16 }
+                }
+                view => {
+                    emit_view::scene_target(view, first, count).unwrap_or(TrackTarget::Morph { morph: 0, target: 0 })
                 }
             };
             let n = count as usize;

@@ -26,6 +26,7 @@ mod babylon;
 mod build;
 mod emit;
 mod emit_animation;
+mod emit_view;
 pub mod scene;
 
 pub use babylon::{read_babylon, read_babylon_file, ConvertError, ConvertOptions, UvOrigin, Warning};

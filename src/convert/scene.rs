@@ -56,9 +56,31 @@ pub struct AnimationData {
     /// Every animation track (of nodes and of morph target influences).
     pub tracks: Vec<TrackData>,
     /// Named sets of tracks played together (`animationGroups`, and one group for the tracks
-    /// of each node or morph target that are in no file group: `autoAnimate` ranges and
-    /// animations a scene starts with `beginAnimation`).
+    /// of each node, morph target, camera or light that are in no file group: `autoAnimate`
+    /// ranges and animations a scene starts with `beginAnimation`).
     pub groups: Vec<GroupData>,
+    /// How the camera aims while tracks move it ([`TrackTarget::Camera`]): the rest values are
+    /// [`Scene::camera`]'s, and a light's rest values its [`Scene::lights`] entry's.
+    pub camera_aim: CameraAim,
+}
+
+/// How the point an animated camera looks at follows it (Babylon.js: an `ArcRotateCamera` or a
+/// locked target keeps looking at its target, a `FreeCamera` keeps its rotation).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum CameraAim {
+    /// At [`CameraData::target`], or where target tracks put it.
+    #[default]
+    Target,
+    /// Along a fixed direction: `position + (target - position)` of [`Scene::camera`].
+    Direction,
+    /// By its rotation: `position + distance · forward(rotation)`, forward being `(0, 0, 1)`
+    /// turned by `RotationYawPitchRoll(y, x, z)`; rotation tracks turn it.
+    Rotation {
+        /// The Euler rotation at rest (x, y, z), radians.
+        rotation: [f32; 3],
+        /// How far ahead of the eye the target lies.
+        distance: f32,
+    },
 }
 
 impl AnimationData {
@@ -175,6 +197,50 @@ pub enum TrackTarget {
         /// Index into that mesh's targets.
         target: u16,
     },
+    /// Components `first..first + count` of a property of [`Scene::camera`] (world space).
+    Camera {
+        /// The property.
+        property: CameraProperty,
+        /// Its first component.
+        first: u8,
+        /// How many components the keys hold.
+        count: u8,
+    },
+    /// Components `first..first + count` of a property of a light (world space).
+    Light {
+        /// Index into [`Scene::lights`].
+        light: u16,
+        /// The property.
+        property: LightProperty,
+        /// Its first component.
+        first: u8,
+        /// How many components the keys hold.
+        count: u8,
+    },
+}
+
+/// A camera property a track sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CameraProperty {
+    /// The eye's position.
+    Position,
+    /// The point looked at ([`CameraAim::Target`]).
+    Target,
+    /// The Euler rotation ([`CameraAim::Rotation`]).
+    Rotation,
+    /// The vertical field of view, radians.
+    Fov,
+}
+
+/// A light property a track sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightProperty {
+    /// [`LightData::vector`]: a point light's position, another's direction.
+    Vector,
+    /// The diffuse colour.
+    Diffuse,
+    /// The intensity.
+    Intensity,
 }
 
 /// A node property a track sets.

@@ -52,6 +52,10 @@ pub enum Part {
     Skin,
     /// The fog record.
     Fog,
+    /// The animated camera record.
+    AnimatedCamera,
+    /// An animated light record.
+    AnimatedLight,
 }
 
 impl fmt::Display for Part {
@@ -79,6 +83,8 @@ impl fmt::Display for Part {
             Part::Group => "animation group",
             Part::Skin => "skin",
             Part::Fog => "fog record",
+            Part::AnimatedCamera => "animated camera record",
+            Part::AnimatedLight => "animated light record",
         };
         f.write_str(name)
     }

@@ -13,7 +13,7 @@
 //! |--------|----------|---------------------------------------------------|
 //! | 0..4   | `[u8;4]` | magic `S3D\0`                                      |
 //! | 4..6   | u16      | version, [`VERSION`]                               |
-//! | 6..8   | u16      | reserved                                           |
+//! | 6..8   | u16      | flags (version 2; 0 in version 1): bit 0, the animation section is extended (camera and light animation) |
 //! | 8..12  | u32      | file length in bytes (must equal the slice length) |
 //! | 12..14 | u16      | mesh count                                         |
 //! | 14..16 | u16      | material count                                     |
@@ -27,7 +27,7 @@
 //! | 36..40 | u32      | offset of the instance table (`count` x 52 bytes)  |
 //! | 40..44 | u32      | offset of the light table (`count` x 32 bytes)     |
 //! | 44..48 | u32      | offset of the camera record (36 bytes), 0 = none   |
-//! | 48..52 | u32      | version 2 and later: offset of the animation section (40 bytes), 0 = none |
+//! | 48..52 | u32      | version 2 and later: offset of the animation section (40 bytes, 52 extended), 0 = none |
 //! | 52..56 | u32      | version 3 and later: offset of the fog record (28 bytes), 0 = none |
 //!
 //! **Mesh** (148 bytes). Positions, normals and UVs are quantized: a local position is
@@ -89,11 +89,35 @@
 //! the converter writes version 1 for a still scene, so that its files read everywhere). What the records mean is `convert::scene`'s
 //! `AnimationData`: animated nodes, the meshes that follow them, morph targets, tracks, groups.
 //!
-//! **Animation section** (40 bytes): 0..2 u16 node count, 2..4 u16 link count, 4..6 u16 morph
-//! count, 6..8 u16 track count, 8..10 u16 group count, 10..12 u16 morph weight count (all
-//! meshes' targets), then u32 offsets of the node (12..16), link (16..20), morph (20..24),
-//! track (24..28) and group (28..32) tables, 32..34 u16 skin count, 34..36 u16 palette count
-//! (all skins' bones), 36..40 u32 offset of the skin table.
+//! **Animation section** (40 bytes; 52 extended): 0..2 u16 node count, 2..4 u16 link count,
+//! 4..6 u16 morph count, 6..8 u16 track count, 8..10 u16 group count, 10..12 u16 weight count
+//! (all meshes' morph targets, then the camera's and lights' slots below), then u32 offsets of
+//! the node (12..16), link (16..20), morph (20..24), track (24..28) and group (28..32) tables,
+//! 32..34 u16 skin count, 34..36 u16 palette count (all skins' bones), 36..40 u32 offset of
+//! the skin table. Extended (header flag bit 0), it goes on: 40..44 u32 offset of the animated
+//! camera record (0 = none), 44..46 u16 animated light count, 46..48 reserved, 48..52 u32
+//! offset of the animated light table. Files written before the extension (flag clear) end the
+//! section at 40 and read as before; the converter sets the flag only for a scene whose camera
+//! or lights move, so every other file is the same, byte for byte, as before.
+//!
+//! A pose's weights ([`crate::animation::Pose`]) hold, after the morph weights, *slots*: the
+//! values the camera's and the lights' tracks set, so that `pose_memory`'s weight count covers
+//! them. The converter writes the camera's slots right after the morph weights and each
+//! animated light's after those; every record names its own first slot, inside the weight
+//! count.
+//!
+//! **Animated camera** (48 bytes, at most one, for the model's camera record, which must exist):
+//! 0..2 u16 aim (how the point looked at follows: 0 target, the target slots are that point;
+//! 1 direction, `position + (rest target - rest position)`; 2 rotation,
+//! `position + distance · forward(rotation)`, forward being `(0, 0, 1)` turned by Babylon's
+//! `RotationYawPitchRoll(y, x, z)`), 2..4 u16 first slot (10 slots: position x, y, z, target
+//! x, y, z, fov, rotation x, y, z), then the rest values: 4..16 position, 16..28 target, 28..32
+//! fov (0 < fov < pi), 32..44 Euler rotation, 44..48 distance (>= 0).
+//!
+//! **Animated light** (32 bytes, in increasing light order, one a light at most): 0..2 u16
+//! light (an index into the light table), 2..4 u16 first slot (7 slots: vector x, y, z,
+//! diffuse r, g, b, intensity), then the rest values as in the light record: 4..16 position or
+//! direction, 16..28 diffuse, 28..32 intensity.
 //!
 //! **Node** (92 bytes): 0..2 u16 parent node ([`NONE`] or a lower index), 2..4 u16 flags (bit
 //! 0: the rotation is a quaternion), 4..16 3 x f32 position, 16..32 4 x f32 rotation (Euler x,
@@ -116,11 +140,14 @@
 //! 16 bits over each target's largest delta, a delta is within 1/65534 of that largest one.
 //!
 //! **Track** (24 bytes): 0 u8 kind (0 position, 1 rotation, 2 scaling, 3 quaternion, 4 morph
-//! influence), 1 u8 first component, 2 u8 component count (`first + count` <= 3, or 0 and 4
-//! for a quaternion, 0 and 1 for an influence), 3 u8 flags (bits 0-1 loop: 0 relative, 1
-//! cycle, 2 constant; bit 2 keys carry tangents), 4..6 u16 target (a node, or for an influence
-//! a morph weight), 8..12 u32 key count (>= 1), 12..16 f32 frames a second (> 0), 16..20 u32
-//! offset of the keys.
+//! influence; extended: 5 camera position, 6 camera target, 7 camera rotation, 8 camera fov,
+//! 9 light position or direction, 10 light diffuse, 11 light intensity), 1 u8 first
+//! component, 2 u8 component count (`first + count` <= 3, or 0 and 4 for a quaternion, 0 and
+//! 1 for an influence, a fov and an intensity), 3 u8 flags (bits 0-1 loop: 0 relative, 1
+//! cycle, 2 constant; bit 2 keys carry tangents), 4..6 u16 target (a node, for an influence a
+//! morph weight, for a camera kind 0, for a light kind a light that has an animated light
+//! record), 8..12 u32 key count (>= 1), 12..16 f32 frames a second (> 0), 16..20 u32 offset of
+//! the keys.
 //!
 //! **Key** (`8 + 4 x count`, or `8 + 12 x count` with tangents): 0..4 f32 frame (keys in
 //! increasing order, equal frames allowed), 4..8 u32 flags (bit 0: step; with tangents, bit 1:
@@ -155,6 +182,9 @@ pub(crate) mod header {
     use core::ops::Range;
     pub const MAGIC: Range<usize> = 0..4;
     pub const VERSION: Range<usize> = 4..6;
+    pub const FLAGS: Range<usize> = 6..8;
+    /// The animation section is extended (52 bytes: camera and light animation).
+    pub const FLAG_EXTENDED_ANIMATION: u16 = 1;
     pub const FILE_LEN: Range<usize> = 8..12;
     pub const MESH_COUNT: Range<usize> = 12..14;
     pub const MATERIAL_COUNT: Range<usize> = 14..16;
@@ -193,6 +223,47 @@ pub(crate) mod animation {
     pub const PALETTE_COUNT: Range<usize> = 34..36;
     pub const SKINS: Range<usize> = 36..40;
     pub const LEN: usize = 40;
+    pub const CAMERA: Range<usize> = 40..44;
+    pub const LIGHT_COUNT: Range<usize> = 44..46;
+    pub const LIGHTS: Range<usize> = 48..52;
+    /// The extended section's length.
+    pub const LEN_EXTENDED: usize = 52;
+}
+
+pub(crate) mod animated_camera {
+    use core::ops::Range;
+    pub const AIM: Range<usize> = 0..2;
+    pub const FIRST_SLOT: Range<usize> = 2..4;
+    pub const POSITION: Range<usize> = 4..16;
+    pub const TARGET: Range<usize> = 16..28;
+    pub const FOV: Range<usize> = 28..32;
+    pub const ROTATION: Range<usize> = 32..44;
+    pub const DISTANCE: Range<usize> = 44..48;
+    pub const LEN: usize = 48;
+    pub const AIM_TARGET: u16 = 0;
+    pub const AIM_DIRECTION: u16 = 1;
+    pub const AIM_ROTATION: u16 = 2;
+    /// Slots: position, target, fov, rotation.
+    pub const SLOTS: usize = 10;
+    pub const SLOT_POSITION: usize = 0;
+    pub const SLOT_TARGET: usize = 3;
+    pub const SLOT_FOV: usize = 6;
+    pub const SLOT_ROTATION: usize = 7;
+}
+
+pub(crate) mod animated_light {
+    use core::ops::Range;
+    pub const LIGHT: Range<usize> = 0..2;
+    pub const FIRST_SLOT: Range<usize> = 2..4;
+    pub const VECTOR: Range<usize> = 4..16;
+    pub const DIFFUSE: Range<usize> = 16..28;
+    pub const INTENSITY: Range<usize> = 28..32;
+    pub const LEN: usize = 32;
+    /// Slots: vector, diffuse, intensity.
+    pub const SLOTS: usize = 7;
+    pub const SLOT_VECTOR: usize = 0;
+    pub const SLOT_DIFFUSE: usize = 3;
+    pub const SLOT_INTENSITY: usize = 6;
 }
 
 pub(crate) mod node {
@@ -271,6 +342,13 @@ pub(crate) mod track {
     pub const KIND_SCALING: u8 = 2;
     pub const KIND_QUATERNION: u8 = 3;
     pub const KIND_INFLUENCE: u8 = 4;
+    pub const KIND_CAMERA_POSITION: u8 = 5;
+    pub const KIND_CAMERA_TARGET: u8 = 6;
+    pub const KIND_CAMERA_ROTATION: u8 = 7;
+    pub const KIND_CAMERA_FOV: u8 = 8;
+    pub const KIND_LIGHT_VECTOR: u8 = 9;
+    pub const KIND_LIGHT_DIFFUSE: u8 = 10;
+    pub const KIND_LIGHT_INTENSITY: u8 = 11;
 }
 
 pub(crate) mod key {

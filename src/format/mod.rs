@@ -22,7 +22,7 @@ mod mesh;
 mod model;
 mod texel;
 
-pub use animation::{Animation, Group, Morph, Node, Skin, Track, TrackTarget};
+pub use animation::{Aim, AnimatedCamera, AnimatedLight, Animation, Group, Morph, Node, Skin, Track, TrackTarget};
 pub(crate) use deform::Deforming;
 pub use error::{ParseError, Part};
 pub use layout::{LightKind, Wrap, MAGIC, NONE, NORMAL_ONE, QUANT_MAX, VERSION};

@@ -199,8 +199,10 @@ impl<'a> Model<'a> {
             }
             check_finite(d, at + light::VECTOR.start..at + light::LEN, Part::Light)?;
         }
+        self.validate_flags()?;
         if let Some(at) = self.animation_at() {
-            Animation::validate(d, at, |m| self.mesh(m).map(|mesh| mesh.vertex_count()))?;
+            let scene = (self.light_count(), u32_at(d, header::CAMERA.start) != 0);
+            Animation::validate(d, at, |m| self.mesh(m).map(|mesh| mesh.vertex_count()), scene)?;
         }
         let camera_at = u32_at(d, header::CAMERA.start);
         if camera_at != 0 {
@@ -227,6 +229,20 @@ impl<'a> Model<'a> {
             if f32_at(d, at + fog::DENSITY.start) < 0.0 {
                 return Err(invalid(Part::Fog, at + fog::DENSITY.start));
             }
+        }
+        Ok(())
+    }
+
+    /// The header's flags (version 2 and later; version 1 keeps the field reserved): known bits only,
+    /// and the extended animation section only where there is a section to extend.
+    fn validate_flags(&self) -> Result<(), ParseError> {
+        if u16_at(self.data, header::VERSION.start) < 2 {
+            return Ok(());
+        }
+        let flags = u16_at(self.data, header::FLAGS.start);
+        let extended = flags & header::FLAG_EXTENDED_ANIMATION != 0;
+        if flags & !header::FLAG_EXTENDED_ANIMATION != 0 || (extended && self.animation_at().is_none()) {
+            return Err(invalid(Part::Header, header::FLAGS.start));
         }
         Ok(())
     }

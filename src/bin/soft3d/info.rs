@@ -1,5 +1,6 @@
 //! `soft3d info`'s animation lines: the groups (frames, loop, tracks and what their keys
-//! cost), the skinned meshes and the morphed meshes with their bytes.
+//! cost), the skinned meshes and the morphed meshes with their bytes, the camera and lights
+//! that move.
 
 use soft3d::animation::{Animation, Track, TrackTarget};
 use soft3d::Model;
@@ -18,6 +19,13 @@ fn target_name(t: &Track<'_>) -> String {
         TrackTarget::Scaling(n) => format!("node {n} scaling"),
         TrackTarget::Quaternion(n) => format!("node {n} rotationQuaternion"),
         TrackTarget::Influence(w) => format!("morph weight {w}"),
+        TrackTarget::CameraPosition => "camera position".into(),
+        TrackTarget::CameraTarget => "camera target".into(),
+        TrackTarget::CameraRotation => "camera rotation".into(),
+        TrackTarget::CameraFov => "camera fov".into(),
+        TrackTarget::LightVector(l) => format!("light {l} position or direction"),
+        TrackTarget::LightDiffuse(l) => format!("light {l} diffuse"),
+        TrackTarget::LightIntensity(l) => format!("light {l} intensity"),
     }
 }
 
@@ -25,7 +33,7 @@ fn target_name(t: &Track<'_>) -> String {
 pub(crate) fn print_animation(model: &Model<'_>) {
     let Some(a) = model.animation() else { return };
     println!(
-        "  animation: {} groups, {} tracks, {} animated nodes and bones, {} morphed meshes ({} targets), {} skinned meshes ({} bones)",
+        "  animation: {} groups, {} tracks, {} animated nodes and bones, {} morphed meshes, {} pose weights, {} skinned meshes ({} bones)",
         a.group_count(),
         a.track_count(),
         a.node_count(),
@@ -55,6 +63,17 @@ pub(crate) fn print_animation(model: &Model<'_>) {
         }
     }
     print_morphs(model, &a);
+    print_view(&a);
+}
+
+/// The animated camera and lights: how the camera aims, which lights move, their slots.
+fn print_view(a: &Animation<'_>) {
+    if let Some(c) = a.camera() {
+        println!("    camera moves, aimed by {:?} (weights {:?})", c.aim(), c.slots());
+    }
+    for l in (0..a.animated_light_count()).filter_map(|i| a.animated_light(i)) {
+        println!("    light {} moves (weights {:?})", l.light(), l.slots());
+    }
 }
 
 fn print_morphs(model: &Model<'_>, a: &Animation<'_>) {

@@ -105,6 +105,8 @@ pub(crate) fn render_frame<C: RawPixels>(
     spin: f32,
     (depth, raw): (DepthKind, bool),
 ) -> Result<Frame> {
+    // The scene's camera and lights at the frame, once for every band.
+    let view = &posed_view(view, model)?;
     let (w, h) = (view.width as usize, view.height as usize);
     let mut color = vec![C::default(); w * h];
     let mut depth = Depth::new(depth, w * h);

@@ -1,5 +1,6 @@
 //! What a render sees: the camera (scene, fitted or the user's), the lights and the options,
-//! from the arguments.
+//! from the arguments; and at an animation frame, the scene's camera and lights where its
+//! tracks put them ([`posed_view`]).
 
 use super::*;
 
@@ -16,6 +17,26 @@ pub(crate) struct View {
     pub(crate) threads: u16,
     /// The animation frame to pose the model at, and the group (`--frame`, `--animation`).
     pub(crate) pose: Option<(f32, Option<usize>)>,
+    /// What of the view follows the scene's animated camera and lights.
+    pub(crate) follows: Follows,
+}
+
+/// What of a [`View`] follows the scene's camera and lights when their tracks move them, and
+/// how its camera is rebuilt then.
+#[derive(Clone, Copy)]
+pub(crate) struct Follows {
+    /// The eye and target are the scene camera's (no `--eye`, `--target` or `--fit`).
+    pub(crate) eye: bool,
+    /// The field of view is the scene camera's (no `--fov`).
+    pub(crate) fov: bool,
+    /// The lights are the scene's (no `--light`).
+    pub(crate) lights: bool,
+    /// The camera's up direction, aspect and field of view (the still one), and its height
+    /// when orthographic.
+    pub(crate) up: Vec3,
+    pub(crate) aspect: f32,
+    pub(crate) fov_y: f32,
+    pub(crate) ortho_height: Option<f32>,
 }
 
 /// How much of the frame's limiting dimension a fitted model fills (see `--fit`).
@@ -113,8 +134,8 @@ pub(crate) fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     if near >= far {
         return Err(format!("--far: must be beyond the near plane at {near}, got {far} (--near, --far)"));
     }
-    let camera = match args.camera {
-        CameraKind::Perspective => Camera::perspective_up((eye, target, up), fov, aspect, near, far),
+    let ortho_height = match args.camera {
+        CameraKind::Perspective => None,
         CameraKind::Ortho => {
             // The fitted size, else the bounding sphere's diameter.
             let fitted_height = fitted.and_then(|c| c.orthographic_size()).map(|(_, h)| h);
@@ -123,10 +144,19 @@ pub(crate) fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
             if !(h.is_finite() && h > 0.0) {
                 return Err(format!("--ortho-height: the scene's bounds give {h}: give a finite size above 0"));
             }
-            Camera::orthographic_up((eye, target, up), h * aspect, h, near, far)
+            Some(h)
         }
-    }
-    .map_err(|e| camera_error(e, (eye, target, up)))?;
+    };
+    let follows = Follows {
+        eye: scene_cam.is_some() && fitted.is_none() && !moved,
+        fov: scene_cam.is_some() && args.fov.is_none(),
+        lights: args.light.is_empty(),
+        up,
+        aspect,
+        fov_y: fov,
+        ortho_height,
+    };
+    let camera = build_camera(&follows, (eye, target), fov, (near, far))?;
     let lights = scene_lights(args, model)?;
     let opts = RenderOptions { fog: fog(args, model)?, ..render_options(args) };
     let threads = args.threads.unwrap_or_else(|| {
@@ -142,7 +172,49 @@ pub(crate) fn make_view(args: &RenderArgs, model: &Model<'_>) -> Result<View> {
     };
     let background = parse_rgb(&args.background, "--background")?;
     let pose = animation_pose(args, model)?;
-    Ok(View { camera, lights, opts, background, width, height, bands, threads: threads.min(bands), pose })
+    Ok(View { camera, lights, opts, background, width, height, bands, threads: threads.min(bands), pose, follows })
+}
+
+/// The camera looking from `eye` at `target` with `follows`' up, aspect and projection.
+fn build_camera(follows: &Follows, (eye, target): (Vec3, Vec3), fov: f32, (near, far): (f32, f32)) -> Result<Camera> {
+    let (up, aspect) = (follows.up, follows.aspect);
+    match follows.ortho_height {
+        None => Camera::perspective_up((eye, target, up), fov, aspect, near, far),
+        Some(h) => Camera::orthographic_up((eye, target, up), h * aspect, h, near, far),
+    }
+    .map_err(|e| camera_error(e, (eye, target, up)))
+}
+
+/// `view` at its animation frame: with the scene's camera and lights where the scene's tracks
+/// put them, as far as `view` follows them ([`Follows`]); `view` itself without a frame or
+/// when nothing of it moves.
+pub(crate) fn posed_view(view: &View, model: &Model<'_>) -> Result<View> {
+    let (Some((frame, group)), Some(a)) = (view.pose, model.animation()) else { return Ok(view.clone()) };
+    let moves_camera = a.camera().is_some() && (view.follows.eye || view.follows.fov);
+    let moves_lights = a.animated_light_count() > 0 && view.follows.lights;
+    if !moves_camera && !moves_lights {
+        return Ok(view.clone());
+    }
+    let (nodes, weights) = pose_memory(a.node_count(), a.palette_count(), a.weight_count());
+    let (mut node_memory, mut weight_memory) = (vec![Mat4::IDENTITY; nodes], vec![0.0f32; weights]);
+    let mut pose = Pose::new(&mut node_memory, &mut weight_memory);
+    pose.evaluate(&a, frame, group).map_err(|e| format!("--frame: {e}"))?;
+    let mut posed = view.clone();
+    if moves_lights {
+        for (i, light) in posed.lights.lights.iter_mut().enumerate().take(model.light_count()) {
+            *light = pose.light(&a, i, *light);
+        }
+    }
+    if let (Some(still), true) = (model.camera(), moves_camera) {
+        let c = pose.camera(&a, still);
+        let f = &view.follows;
+        let (eye, target) = if f.eye { (c.position, c.target) } else { (view.camera.eye, view.camera.target) };
+        let fov = if f.fov { c.fov } else { f.fov_y };
+        let planes = (view.camera.near, view.camera.far);
+        posed.camera = build_camera(f, (eye, target), fov, planes)
+            .map_err(|e| format!("--frame {frame}: the scene's camera at this frame: {e}"))?;
+    }
+    Ok(posed)
 }
 
 /// `--fog` and `--fog-color` over the scene's fog.

@@ -25,12 +25,14 @@
 //!   `interpolation` keys, when present, win over the packed ones. `interpolation: 1` is a
 //!   step. A key with one tangent only keeps that one: a span is Hermite when its first key
 //!   has an out-tangent and its last an in-tangent, else linear, as in Babylon.js.
-//! - **Groups**: `animationGroups[].targetedAnimations[]` name their target by `targetId`: an
-//!   `influence` track a morph target (by `id`, then `name`), any other a mesh or transform
-//!   node (by `id`, then `name`); unknown targets, cameras, lights and skeleton bones are
-//!   skipped with a warning. A group without `from`/`to` spans its tracks' keys, and loops
-//!   when `loopAnimation` is true (Babylon.js's default: false). Then each node or morph
-//!   target with tracks of its own (its `animations`) gets a group of them named after it:
+//! - **Groups**: `animationGroups[].targetedAnimations[]` name their target by `targetId`: the
+//!   active camera or a light soft3d draws (by `id`, then `name`: their tracks are
+//!   `view_tracks`'), else for an `influence` track a morph target (by `id`, then `name`), for
+//!   any other a mesh or transform node (by `id`, then `name`); unknown targets, other cameras
+//!   and lights, and skeleton bones are skipped with a warning. A group without `from`/`to`
+//!   spans its tracks' keys, and loops when `loopAnimation` is true (Babylon.js's default:
+//!   false). Then each node or morph target (and the camera and lights, `view_tracks`) with
+//!   tracks of its own (its `animations`) gets a group of them named after it:
 //!   with `autoAnimate`, from `autoAnimateFrom` (default 0) to `autoAnimateTo` (default: the
 //!   last key), looping unless `autoAnimateLoop` is false; without, over its keys, looping.
 //! - **Nodes and links**: every mesh or transform node with a track becomes a `NodeData`, after
@@ -52,31 +54,36 @@ use std::vec::Vec;
 use serde_json::Value;
 
 use super::fields::{flag, floats, get, label, list, number, scalar, show, text, Ctx, Res};
-use super::track::{parse_animation, Curve, Property};
+use super::track::{parse_animation, Curve, Owner, Property};
 use super::transform::mul;
 use super::{ConvertError, Reader};
 use crate::convert::scene::{
-    AnimationData, GroupData, KeyData, MeshLink, MorphData, MorphTargetData, NodeData, NodeProperty, TrackData,
-    TrackTarget, IDENTITY,
+    AnimationData, CameraProperty, GroupData, KeyData, LightProperty, MeshLink, MorphData, MorphTargetData, NodeData,
+    NodeProperty, TrackData, TrackTarget, IDENTITY,
 };
 
 /// What a track moves, before the animated nodes and the morphed meshes are numbered.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Target {
+pub(super) enum Target {
     /// Components of a property of a node (an index into `Reader::nodes`).
     Node { node: usize, property: NodeProperty, first: u8, count: u8 },
     /// The influence of a morph target: indices into the managers and their targets.
     Morph { manager: usize, target: usize },
+    /// Components of a property of the stored camera (keys in world space).
+    Camera { property: CameraProperty, first: u8, count: u8 },
+    /// Components of a property of a stored light (an index into `Scene::lights`; keys in
+    /// world space).
+    Light { light: u16, property: LightProperty, first: u8, count: u8 },
 }
 
 /// A track as read, with its target not yet numbered.
-struct Track {
-    target: Target,
-    curve: Curve,
+pub(super) struct Track {
+    pub(super) target: Target,
+    pub(super) curve: Curve,
 }
 
 /// A group as read: indices into the read tracks; `None` ends span the tracks' keys.
-struct Group {
+pub(super) struct Group {
     name: String,
     from: Option<f32>,
     to: Option<f32>,
@@ -86,9 +93,9 @@ struct Group {
 
 /// The tracks and groups read so far.
 #[derive(Default)]
-struct Read {
-    tracks: Vec<Track>,
-    groups: Vec<Group>,
+pub(super) struct Read {
+    pub(super) tracks: Vec<Track>,
+    pub(super) groups: Vec<Group>,
 }
 
 /// A morph target manager (`morphTargetManagers[]`).
@@ -116,6 +123,8 @@ impl<'a> Reader<'a> {
         self.read_groups(&managers, &mut read)?;
         self.read_node_tracks(&mut read)?;
         self.read_morph_tracks(&managers, &mut read)?;
+        self.read_view_tracks(&mut read)?;
+        let camera_aim = self.camera_aim(&read.tracks);
         let order = self.animated_nodes(&read.tracks)?;
         let mut index = vec![None; self.nodes.len()];
         for (k, &n) in order.iter().enumerate() {
@@ -126,7 +135,7 @@ impl<'a> Reader<'a> {
         let (morphs, used) = self.morphs(&managers)?;
         let (tracks, groups) = self.number(read, &index, &used, &managers)?;
         self.warn_instances(&links, &morphs);
-        self.scene.animation = AnimationData { nodes, links, morphs, tracks, groups, skins: Vec::new() };
+        self.scene.animation = AnimationData { nodes, links, morphs, tracks, groups, skins: Vec::new(), camera_aim };
         Ok(())
     }
 
@@ -163,11 +172,13 @@ impl<'a> Reader<'a> {
         Ok(managers)
     }
 
-    /// Reads one animation object (`at` is where it lies in `cx`'s object, for errors; `here`
-    /// names it in warnings): its property and curve, `None` (warned) when soft3d skips it.
-    fn animation(
+    /// Reads one animation object of `owner` (`at` is where it lies in `cx`'s object, for
+    /// errors; `here` names it in warnings): its property and curve, `None` (warned) when
+    /// soft3d skips it.
+    pub(super) fn animation(
         &mut self,
         anim: &Value,
+        owner: Owner,
         here: &str,
         at: &str,
         cx: &Ctx,
@@ -176,7 +187,7 @@ impl<'a> Reader<'a> {
             return Err(cx.err(format!("{at}: expected an object, found {}", show(anim))));
         }
         let mut notes = Vec::new();
-        let parsed = parse_animation(anim, &mut notes).map_err(|m| cx.err(format!("{at}.{m}")))?;
+        let parsed = parse_animation(anim, owner, &mut notes).map_err(|m| cx.err(format!("{at}.{m}")))?;
         for note in notes {
             self.warn(format!("{here}: {note}"));
         }
@@ -231,16 +242,26 @@ impl<'a> Reader<'a> {
             return Ok(None);
         };
         let here = format!("{}: {at} (target {id:?})", cx.what);
-        let Some((property, curve)) = self.animation(anim, &here, &format!("{at}.animation"), cx)? else {
+        let view = match self.view_named(&id) {
+            Ok(view) => view,
+            Err(reason) => {
+                self.warn(format!("{here}: {reason}, skipped"));
+                return Ok(None);
+            }
+        };
+        let owner = if view.is_some() { Owner::View } else { Owner::Node };
+        let Some((property, mut curve)) = self.animation(anim, owner, &here, &format!("{at}.animation"), cx)? else {
             return Ok(None);
         };
-        let target = match property {
-            Property::Influence => find_morph_target(managers, &id)
+        let target = match (view, property) {
+            (Some(view), property) => self.view_target(view, property, &mut curve),
+            (None, Property::Influence) => find_morph_target(managers, &id)
                 .map(|(manager, target)| Target::Morph { manager, target })
                 .ok_or_else(|| "no morph target has this id or name".into()),
-            Property::Node { property, first, count } => {
+            (None, Property::Node { property, first, count }) => {
                 self.find_node(&id).map(|node| Target::Node { node, property, first, count })
             }
+            (None, Property::View { .. }) => Err("not a camera or light".into()),
         };
         match target {
             Ok(target) => {
@@ -255,11 +276,11 @@ impl<'a> Reader<'a> {
     }
 
     /// The mesh or transform node with `id` (by `id`, then `name`), or why there is none
-    /// (cameras, lights and skeleton bones are not played).
+    /// (cameras and lights are `view_tracks`', skeleton bones are not played).
     fn find_node(&self, id: &str) -> Result<usize, String> {
         match self.ids.get(id).or_else(|| self.names.get(id)).copied() {
             Some(node) if self.nodes[node].movable => Ok(node),
-            Some(node) => Err(format!("{}: animations of cameras and lights are not played", self.nodes[node].what)),
+            Some(node) => Err(format!("{}: a camera or light, not a mesh or transform node", self.nodes[node].what)),
             None if self.is_bone(id) => Err("a skeleton bone: skeletons are not played yet".into()),
             None => Err("no mesh or transform node has this id or name".into()),
         }
@@ -284,7 +305,7 @@ impl<'a> Reader<'a> {
             for (k, anim) in list(obj, "animations").map_err(|m| cx.err(m))?.iter().enumerate() {
                 let at = format!("animations[{k}]");
                 let here = named(&what, &at, anim);
-                let Some((property, curve)) = self.animation(anim, &here, &at, &cx)? else {
+                let Some((property, curve)) = self.animation(anim, Owner::Node, &here, &at, &cx)? else {
                     continue;
                 };
                 let Property::Node { property, first, count } = property else {
@@ -311,7 +332,7 @@ impl<'a> Reader<'a> {
                 for (k, anim) in list(target.obj, "animations").map_err(in_target)?.iter().enumerate() {
                     let at = format!("targets[{t}].animations[{k}]");
                     let here = named(&manager.what, &at, anim);
-                    let Some((property, curve)) = self.animation(anim, &here, &at, &cx)? else {
+                    let Some((property, curve)) = self.animation(anim, Owner::Node, &here, &at, &cx)? else {
                         continue;
                     };
                     if property != Property::Influence {
@@ -468,6 +489,10 @@ impl<'a> Reader<'a> {
                     unused[manager] |= used[manager].is_empty();
                     used[manager].iter().map(|&morph| TrackTarget::Morph { morph, target }).collect()
                 }
+                Target::Camera { property, first, count } => vec![TrackTarget::Camera { property, first, count }],
+                Target::Light { light, property, first, count } => {
+                    vec![TrackTarget::Light { light, property, first, count }]
+                }
             };
             let mut ids = Vec::with_capacity(targets.len());
             for target in targets {
@@ -495,7 +520,7 @@ impl<'a> Reader<'a> {
 }
 
 /// `what: at` with the animation's `name` when it has one, for warnings.
-fn named(what: &str, at: &str, anim: &Value) -> String {
+pub(super) fn named(what: &str, at: &str, anim: &Value) -> String {
     match text(anim, "name").ok().flatten() {
         Some(name) => format!("{what}: {at} ({name:?})"),
         None => format!("{what}: {at}"),
@@ -558,8 +583,9 @@ fn target_deltas(t: &MorphTarget, positions: &[[f32; 3]], normals: &[[f32; 3]]) 
     Ok(MorphTargetData { name: t.name.clone(), influence: t.influence, positions, normals })
 }
 
-/// The group of a node's or morph target's own tracks (see the module documentation).
-fn own_group(obj: &Value, name: String, tracks: Vec<usize>) -> Res<Group> {
+/// The group of a node's, morph target's, camera's or light's own tracks (see the module
+/// documentation).
+pub(super) fn own_group(obj: &Value, name: String, tracks: Vec<usize>) -> Res<Group> {
     if !flag(obj, "autoAnimate", false)? {
         return Ok(Group { name, from: None, to: None, looping: true, tracks });
     }

@@ -3,13 +3,15 @@
 //! `ArcRotateCamera`, else `position` + the rotated +z axis), field of view and clip planes,
 //! taken to world space through its parent.
 //!
-//! World matrices come from `node`; lights are read by `light`.
+//! World matrices come from `node`; lights are read by `light`; what the camera's animations
+//! need is kept for `view_tracks`.
 
 use std::format;
 use std::string::String;
 
 use super::fields::{label, list, scalar, show, text, vector};
 use super::transform::{transform, Trs};
+use super::view_tracks::{rotation_towards, StoredCamera};
 use super::{ConvertError, Reader};
 use crate::convert::scene::CameraData;
 
@@ -38,27 +40,41 @@ impl Reader<'_> {
             return Err(cx.err(format!("expected an object, found {}", show(c))));
         }
         let position = vector(c, "position").map_err(e)?.unwrap_or([0.; 3]);
-        let target = match (vector(c, "target").map_err(e)?, text(c, "lockedTargetId").map_err(e)?) {
+        let file_target = vector(c, "target").map_err(e)?;
+        let orbits = text(c, "type").map_err(e)?.as_deref() == Some("ArcRotateCamera");
+        let mut locked = false;
+        let target = match (file_target, text(c, "lockedTargetId").map_err(e)?) {
             (Some(t), _) => t,
             (None, Some(id)) if self.ids.contains_key(&id) => {
+                locked = true;
                 let w = self.world(self.ids[&id])?;
                 [w[12], w[13], w[14]]
             }
-            _ if text(c, "type").map_err(e)?.as_deref() == Some("ArcRotateCamera") => [0.; 3],
+            _ if orbits => [0.; 3],
             _ => {
                 let forward = transform(&Trs::read(c, Trs::IDENTITY).map_err(e)?.rotation_matrix(), [0., 0., 1.], 0.);
                 core::array::from_fn(|k| position[k] + forward[k])
             }
         };
+        // The rotation a `FreeCamera` turns by: its `target`'s (`setTarget`), else its own.
+        let rotation = match file_target {
+            Some(t) => rotation_towards(core::array::from_fn(|k| t[k] - position[k])),
+            None => vector(c, "rotation").map_err(e)?.unwrap_or([0.; 3]),
+        };
         let parent = self.parent(c, &cx.what)?;
         let world = self.parent_world(parent)?;
         let (position, target) = (transform(&world, position, 1.), transform(&world, target, 1.));
+        let distance = libm::sqrtf((0..3).map(|k| (target[k] - position[k]) * (target[k] - position[k])).sum());
+        let quaternion = vector::<4>(c, "rotationQuaternion").map_err(e)?.is_some();
+        let node = self.node_of("cameras", i);
+        let stored = StoredCamera { node, world, orbits, locked, quaternion, rotation, distance };
         if position == target {
             // Nowhere to look: Babylon.js would draw nothing either.
             self.warn(format!(
                 "{}: its position is its target, so it was ignored (the fitted camera is used)",
                 cx.what
             ));
+            self.view.ignored_camera = stored.node;
             return Ok(());
         }
         let near = scalar(c, "minZ", 1.).map_err(e)?;
@@ -73,6 +89,7 @@ impl Reader<'_> {
         }
         let fov = scalar(c, "fov", 0.8).map_err(e)?;
         self.scene.camera = Some(CameraData { position, target, fov, near, far });
+        self.view.camera = Some(stored);
         Ok(())
     }
 

@@ -2,13 +2,15 @@
 //! are disabled ones), their position or direction (or the 2013 `data` field) taken to world
 //! space through their parent, colour and intensity.
 //!
-//! The parent's world matrix comes from `node`; the camera is read by `camera`.
+//! The parent's world matrix comes from `node`; the camera is read by `camera`; what the
+//! lights' animations need is kept for `view_tracks`.
 
 use std::format;
 use std::string::String;
 
 use super::fields::{flag, get, label, list, scalar, show, vector, whole};
 use super::transform::transform;
+use super::view_tracks::StoredLight;
 use super::{ConvertError, Reader};
 use crate::convert::scene::{LightData, LightKind};
 
@@ -42,6 +44,8 @@ impl Reader<'_> {
             let vector3 = vector(l, key).map_err(e)?.or(data).unwrap_or(default);
             let parent = self.parent(l, &cx.what)?;
             let world = self.parent_world(parent)?;
+            let node = self.node_of("lights", i);
+            self.view.lights.push(StoredLight { node, kind, world });
             self.scene.lights.push(LightData {
                 kind,
                 vector: transform(&world, vector3, w),

@@ -19,8 +19,9 @@
 //!   has the rules): tracks of meshes' and transform nodes' position, rotation and scaling
 //!   (whole or one component) and of morph target influences, the groups that play them
 //!   (`animationGroups`, then one for each node's or morph target's own tracks), the nodes
-//!   they move with the meshes those carry, and the meshes' morph targets. A missing
-//!   `framePerSecond` is 30; keys out of frame order are sorted, with a warning.
+//!   they move with the meshes those carry, and the meshes' morph targets; the active camera's
+//!   and the drawn lights' tracks are `view_tracks`' (keys in world space, the camera's aim).
+//!   A missing `framePerSecond` is 30; keys out of frame order are sorted, with a warning.
 //! - **Instances** inherit the source mesh's position/rotation/scaling when they omit one (as
 //!   Babylon's `createInstance` does); their parent is their own `parentId` when the key is
 //!   present (even `null`), else the mesh's parent.
@@ -45,7 +46,8 @@
 //! work is split by concern into `fields` (JSON field access), `transform` (matrices, rotations,
 //! first frames), `node` (hierarchy), `geometry` (where vertex data lives), `mesh` (meshes,
 //! sub-meshes, instances), `animation` (groups, animated nodes, morph targets), `track` (one
-//! animation's property and keys), `skeleton` (bones, their matrix keys, skin influences),
+//! animation's property and keys), `view_tracks` (the camera's and lights' animations),
+//! `skeleton` (bones, their matrix keys, skin influences),
 //! `material`, `texture`, `light`, `camera` and `unsupported` (a warning for each feature the
 //! file has and soft3d does not draw or play). Writing the result as
 //! `.s3d` is not its job (that is `convert::emit`).
@@ -64,6 +66,7 @@ mod texture;
 mod track;
 mod transform;
 mod unsupported;
+mod view_tracks;
 
 use std::borrow::ToOwned;
 use std::collections::HashMap;
@@ -182,11 +185,12 @@ pub fn read_babylon(
         .map_err(|e| ConvertError::Json { file: file_name.to_owned(), message: e.to_string() })?;
     let mut reader = Reader::new(&root, base_dir, file_name, opts)?;
     reader.read_meshes()?;
-    reader.read_animation()?;
-    reader.read_skeletons()?;
+    // The camera and lights before the animations, which move them.
     reader.read_lights()?;
     reader.read_camera()?;
     reader.read_fog()?;
+    reader.read_animation()?;
+    reader.read_skeletons()?;
     reader.warn_unsupported();
     if let Some(what) = reader.legacy_uvs.take() {
         reader.warn(std::format!(
@@ -222,6 +226,8 @@ struct Reader<'a> {
     /// The first textured mesh in the 2013 layout read with the UV origin at the bottom (see
     /// `read_babylon`'s hint).
     legacy_uvs: Option<String>,
+    /// The camera and lights stored, for their animations (see `view_tracks`).
+    view: view_tracks::Stored,
 }
 
 impl<'a> Reader<'a> {
@@ -255,6 +261,7 @@ impl<'a> Reader<'a> {
             scene: Scene::default(),
             warnings: Vec::new(),
             legacy_uvs: None,
+            view: view_tracks::Stored::default(),
         };
         r.read_nodes()?;
         Ok(r)

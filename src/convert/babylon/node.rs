@@ -71,6 +71,12 @@ impl<'a> Reader<'a> {
         // Cameras and lights, as parents of others (they are read as such by `camera` and
         // `light`).
         for (array, kind) in [("cameras", "camera"), ("lights", "light")] {
+            let first = self.nodes.len();
+            if kind == "camera" {
+                self.view.cameras_at = first;
+            } else {
+                self.view.lights_at = first;
+            }
             for (i, obj) in list(root, array).map_err(|m| self.ctx("scene").err(m))?.iter().enumerate() {
                 let cx = self.ctx(label(obj, kind, array, i));
                 let local =

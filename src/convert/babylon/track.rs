@@ -23,22 +23,50 @@ pub(super) enum Property {
     Node { property: NodeProperty, first: u8, count: u8 },
     /// A morph target's influence.
     Influence,
+    /// Components `first..first + count` of a camera's or light's property, by its Babylon.js
+    /// name (one of [`VIEW_PROPERTIES`]); whether that camera or light plays it is
+    /// `view_tracks`' to say.
+    View { name: &'static str, first: u8, count: u8 },
 }
+
+/// Whose animation is read: a mesh's, transform node's or morph target's, or a camera's or
+/// light's (their properties have other names).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Owner {
+    /// A mesh, transform node or morph target.
+    Node,
+    /// A camera or light.
+    View,
+}
+
+/// The camera and light properties soft3d may play, with their number of components (1: a
+/// float, 3: a vector3, or for `diffuse` a color3).
+pub(super) const VIEW_PROPERTIES: [(&str, u8); 8] = [
+    ("position", 3),
+    ("target", 3),
+    ("lockedTarget", 3),
+    ("rotation", 3),
+    ("fov", 1),
+    ("direction", 3),
+    ("diffuse", 3),
+    ("intensity", 1),
+];
 
 impl Property {
     /// How many numbers a key holds.
     pub(super) fn count(self) -> usize {
         match self {
-            Property::Node { count, .. } => usize::from(count),
+            Property::Node { count, .. } | Property::View { count, .. } => usize::from(count),
             Property::Influence => 1,
         }
     }
 
-    /// The Babylon.js `dataType` of such a track: 0 float, 1 vector3, 2 quaternion.
+    /// The Babylon.js `dataType` of such a track: 0 float, 1 vector3, 2 quaternion, 4 color3.
     pub(super) fn data_type(self) -> u64 {
-        match self.count() {
-            3 => 1,
-            4 => 2,
+        match (self, self.count()) {
+            (Property::View { name: "diffuse", .. }, 3) => 4,
+            (_, 3) => 1,
+            (_, 4) => 2,
             _ => 0,
         }
     }
@@ -77,7 +105,21 @@ pub(super) fn loop_behavior(anim: &Value, notes: &mut Vec<String>) -> Res<Loop> 
     })
 }
 
-/// What an animation's `property` sets; `None` for what soft3d does not play.
+/// What a camera's or light's animation `property` sets; `None` for what soft3d does not play
+/// (see [`VIEW_PROPERTIES`]; components x, y, z, or r, g, b of `diffuse`).
+pub(super) fn view_property(name: &str) -> Option<Property> {
+    let (base, component) = name.split_once('.').map_or((name, None), |(b, c)| (b, Some(c)));
+    let &(name, size) = VIEW_PROPERTIES.iter().find(|(n, _)| *n == base)?;
+    let Some(c) = component else {
+        return Some(Property::View { name, first: 0, count: size });
+    };
+    let names = if name == "diffuse" { ["r", "g", "b"] } else { ["x", "y", "z"] };
+    let first = names.iter().position(|&n| n == c).filter(|_| size == 3)?;
+    Some(Property::View { name, first: first as u8, count: 1 })
+}
+
+/// What a node's or morph target's animation `property` sets; `None` for what soft3d does not
+/// play.
 pub(super) fn property(name: &str) -> Option<Property> {
     if name == "influence" {
         return Some(Property::Influence);
@@ -116,13 +158,18 @@ fn type_name(data_type: u64) -> &'static str {
     }
 }
 
-/// Reads an animation object: `Err` for a field of the wrong type (the message starts with the
-/// field), `Ok(Err(reason))` when soft3d skips it, and `notes` for what it changes.
-pub(super) fn parse_animation(anim: &Value, notes: &mut Vec<String>) -> Res<Parsed> {
+/// Reads an animation object of `owner`: `Err` for a field of the wrong type (the message
+/// starts with the field), `Ok(Err(reason))` when soft3d skips it, and `notes` for what it
+/// changes.
+pub(super) fn parse_animation(anim: &Value, owner: Owner, notes: &mut Vec<String>) -> Res<Parsed> {
     let Some(name) = text(anim, "property")? else {
         return Ok(Err("no property".into()));
     };
-    let Some(property) = property(&name) else {
+    let found = match owner {
+        Owner::Node => property(&name),
+        Owner::View => view_property(&name),
+    };
+    let Some(property) = found else {
         return Ok(Err(format!("property {name:?} is not played by soft3d")));
     };
     let data_type = count(anim, "dataType", Some(property.data_type()))?;
@@ -253,7 +300,7 @@ mod tests {
 
     fn parse(anim: &Value) -> (Res<Parsed>, Vec<String>) {
         let mut notes = Vec::new();
-        (parse_animation(anim, &mut notes), notes)
+        (parse_animation(anim, Owner::Node, &mut notes), notes)
     }
 
     #[test]
@@ -268,6 +315,21 @@ mod tests {
         assert_eq!(property("_matrix"), None);
         assert_eq!(property("position.x.y"), None);
         assert_eq!(property("influence"), Some(Property::Influence));
+    }
+
+    #[test]
+    fn camera_and_light_properties() {
+        let view = |name, first, count| Some(Property::View { name, first, count });
+        assert_eq!(view_property("fov"), view("fov", 0, 1));
+        assert_eq!(view_property("position.z"), view("position", 2, 1));
+        assert_eq!(view_property("diffuse.g"), view("diffuse", 1, 1));
+        assert_eq!(view_property("diffuse.y"), None);
+        assert_eq!(view_property("fov.x"), None);
+        assert_eq!(view_property("upVector"), None);
+        assert_eq!(view_property("specular"), None);
+        assert_eq!(view("diffuse", 0, 3).map(Property::data_type), Some(4));
+        assert_eq!(view("direction", 0, 3).map(Property::data_type), Some(1));
+        assert_eq!(view("intensity", 0, 1).map(Property::data_type), Some(0));
     }
 
     #[test]

@@ -50,9 +50,9 @@ const MATERIAL_MAPS: &[(&str, &str)] = &[
 
 const FEATURES: &[Feature] = &[
     Feature {
-        name: "animations of the scene, cameras, lights and materials",
+        name: "animations of the scene and of materials",
         verb: "played",
-        keys: &[("", "animations"), ("cameras", "animations"), ("lights", "animations"), ("materials", "animations")],
+        keys: &[("", "animations"), ("materials", "animations")],
         instead: "what they animate stays as the file sets it",
     },
     Feature::drawn(

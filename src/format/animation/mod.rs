@@ -1,11 +1,16 @@
-//! A model's animation section, read in place: typed views of its records ([`Animation`], [`Node`], [`Track`], [`Group`], [`Morph`]). The
-//! byte layout is `layout`'s; what a pose at a frame is, is `crate::animation`'s.
+//! A model's animation section, read in place: typed views of its records ([`Animation`],
+//! [`Node`], [`Track`], [`Group`], [`Morph`], [`Skin`]; the animated camera and lights are
+//! `view`'s). The byte layout is `layout`'s; what a pose at a frame is, is
+//! `crate::animation`'s.
 
 use core::ops::Range;
 
 use super::layout::*;
 
 mod validate;
+mod view;
+pub use view::{Aim, AnimatedCamera, AnimatedLight};
+
 use crate::math::{Mat4, Vec3, Vec4};
 
 /// The animation section of a [`Model`](super::Model): every count, offset and reference in it
@@ -43,6 +48,21 @@ pub enum TrackTarget {
     Quaternion(u16),
     /// A morph weight (an index over every mesh's targets).
     Influence(u16),
+    /// Components of the camera's position ([`Animation::camera`]).
+    CameraPosition,
+    /// Components of the point the camera looks at.
+    CameraTarget,
+    /// Components of the camera's Euler rotation ([`Aim::Rotation`]).
+    CameraRotation,
+    /// The camera's vertical field of view.
+    CameraFov,
+    /// Components of a light's position (point) or direction: the model's light with that
+    /// index ([`Animation::animated_light_of`]).
+    LightVector(u16),
+    /// Components of a light's diffuse colour.
+    LightDiffuse(u16),
+    /// A light's intensity.
+    LightIntensity(u16),
 }
 
 /// A group of tracks played together.
@@ -82,7 +102,8 @@ impl<'a> Animation<'a> {
         self.count(animation::NODE_COUNT)
     }
 
-    /// Number of morph weights (every morphed mesh's targets).
+    /// Number of weights a pose holds: every morphed mesh's targets, then the slots of the
+    /// animated camera and lights (see [`AnimatedCamera::slots`]).
     #[must_use]
     pub fn weight_count(&self) -> usize {
         self.count(animation::WEIGHT_COUNT)
@@ -238,6 +259,13 @@ impl Track<'_> {
             track::KIND_ROTATION => TrackTarget::Rotation(t),
             track::KIND_SCALING => TrackTarget::Scaling(t),
             track::KIND_QUATERNION => TrackTarget::Quaternion(t),
+            track::KIND_CAMERA_POSITION => TrackTarget::CameraPosition,
+            track::KIND_CAMERA_TARGET => TrackTarget::CameraTarget,
+            track::KIND_CAMERA_ROTATION => TrackTarget::CameraRotation,
+            track::KIND_CAMERA_FOV => TrackTarget::CameraFov,
+            track::KIND_LIGHT_VECTOR => TrackTarget::LightVector(t),
+            track::KIND_LIGHT_DIFFUSE => TrackTarget::LightDiffuse(t),
+            track::KIND_LIGHT_INTENSITY => TrackTarget::LightIntensity(t),
             _ => TrackTarget::Influence(t),
         }
     }

@@ -1,14 +1,14 @@
 //! The animation section's validation, once, from `Model::parse`: every count, offset,
 //! reference and float of its records, and their order (links, morphs and skins by increasing
-//! mesh; keys, group lists and names each after the previous), so that no accessor of
-//! `Animation` can read outside the file and no pass over it takes longer than one over the
-//! file.
+//! mesh, animated lights by increasing light; keys, group lists and names each after the
+//! previous), so that no accessor of `Animation` can read outside the file and no pass over it
+//! takes longer than one over the file.
 
 use core::ops::Range;
 
 use super::super::error::{ParseError, Part};
 use super::super::layout::*;
-use super::{Animation, Morph, Track};
+use super::{Aim, AnimatedCamera, AnimatedLight, Animation, Morph, Track};
 
 fn records(
     data: &[u8],
@@ -81,17 +81,22 @@ impl<'a> Animation<'a> {
     }
 
     /// Checks the section at `at` of `data`, for a model whose meshes have `vertices(m)`
-    /// vertices (`None` past the last mesh).
+    /// vertices (`None` past the last mesh), with `lights` lights and a camera record or not
+    /// (`camera`). The header's flags are checked already (`Model::parse`).
     pub(in crate::format) fn validate(
         data: &'a [u8],
         at: u32,
         vertices: impl Fn(usize) -> Option<u32>,
+        (lights, camera): (usize, bool),
     ) -> Result<Self, ParseError> {
-        let head = records(data, at, (1, animation::LEN), Part::Animation, header::ANIMATION.start)?;
+        let len = if (Animation { data, at: 0 }).extended() { animation::LEN_EXTENDED } else { animation::LEN };
+        let head = records(data, at, (1, len), Part::Animation, header::ANIMATION.start)?;
         let a = Animation { data, at: head.start };
         a.validate_nodes()?;
         a.validate_links(&vertices)?;
         a.validate_morphs(&vertices)?;
+        a.validate_camera(camera)?;
+        a.validate_lights(lights)?;
         a.validate_tracks()?;
         a.validate_groups()?;
         a.validate_skins(&vertices)?;
@@ -189,6 +194,56 @@ impl<'a> Animation<'a> {
         Ok(())
     }
 
+    /// Checks that `slots` lie inside the weight count (`at`: the record's first-slot field).
+    fn slots_fit(&self, slots: Range<usize>, at: usize, part: Part) -> Result<(), ParseError> {
+        if slots.end > self.weight_count() {
+            return Err(invalid(part, at));
+        }
+        Ok(())
+    }
+
+    /// The animated camera record, for a model with a camera record (`camera`) or not.
+    fn validate_camera(&self, camera: bool) -> Result<(), ParseError> {
+        let (d, field) = (self.data, self.at + animation::CAMERA.start);
+        let at = self.extended_u32(animation::CAMERA);
+        if at == 0 {
+            return Ok(());
+        }
+        if !camera {
+            return Err(invalid(Part::AnimatedCamera, field));
+        }
+        records(d, at as u32, (1, animated_camera::LEN), Part::AnimatedCamera, field)?;
+        finite(d, at + animated_camera::POSITION.start..at + animated_camera::LEN, Part::AnimatedCamera)?;
+        let c = AnimatedCamera { data: d, at };
+        let aim = u16_at(d, at + animated_camera::AIM.start);
+        let fov_ok = c.fov() > 0.0 && c.fov() < core::f32::consts::PI;
+        if Aim::from_code(aim).is_none() || !fov_ok || c.distance() < 0.0 {
+            return Err(invalid(Part::AnimatedCamera, at));
+        }
+        self.slots_fit(c.slots(), at + animated_camera::FIRST_SLOT.start, Part::AnimatedCamera)
+    }
+
+    /// The animated light records, for a model with `lights` lights.
+    fn validate_lights(&self, lights: usize) -> Result<(), ParseError> {
+        if !self.extended() {
+            return Ok(());
+        }
+        let d = self.data;
+        let table = self.table(animation::LIGHTS, animation::LIGHT_COUNT, animated_light::LEN, Part::AnimatedLight)?;
+        let mut last = None;
+        for at in table.step_by(animated_light::LEN) {
+            let light = reference(d, at + animated_light::LIGHT.start, lights, Part::AnimatedLight)?;
+            if last.is_some_and(|l| l >= light) {
+                return Err(invalid(Part::AnimatedLight, at));
+            }
+            last = Some(light);
+            finite(d, at + animated_light::VECTOR.start..at + animated_light::LEN, Part::AnimatedLight)?;
+            let l = AnimatedLight { data: d, at };
+            self.slots_fit(l.slots(), at + animated_light::FIRST_SLOT.start, Part::AnimatedLight)?;
+        }
+        Ok(())
+    }
+
     fn validate_tracks(&self) -> Result<(), ParseError> {
         let tracks = self.table(animation::TRACKS, animation::TRACK_COUNT, track::LEN, Part::Track)?;
         // Each track's keys after the previous track's: their checks (and every later pass
@@ -208,19 +263,17 @@ impl<'a> Animation<'a> {
     fn validate_track(&self, at: usize) -> Result<Range<usize>, ParseError> {
         let (d, t) = (self.data, Track { data: self.data, at });
         let (first, count) = (u8_at(d, at + track::FIRST) as usize, t.component_count());
-        let (targets, fits) = match u8_at(d, at + track::KIND) {
-            track::KIND_POSITION | track::KIND_ROTATION | track::KIND_SCALING => {
-                (self.node_count(), count >= 1 && first + count <= 3)
-            }
-            track::KIND_QUATERNION => (self.node_count(), first == 0 && count == 4),
-            track::KIND_INFLUENCE => (self.weight_count(), first == 0 && count == 1),
-            _ => return Err(invalid(Part::Track, at + track::KIND)),
-        };
+        let kind = u8_at(d, at + track::KIND);
+        let (targets, fits) = self.track_kind(kind, (first, count)).ok_or(invalid(Part::Track, at + track::KIND))?;
         let flags = u8_at(d, at + track::FLAGS);
         if !fits || flags & track::LOOP_MASK == 3 || flags > (track::LOOP_MASK | track::FLAG_TANGENTS) {
             return Err(invalid(Part::Track, at + track::FIRST));
         }
-        reference(d, at + track::TARGET.start, targets, Part::Track)?;
+        let target = reference(d, at + track::TARGET.start, targets, Part::Track)?;
+        let light = matches!(kind, track::KIND_LIGHT_VECTOR | track::KIND_LIGHT_DIFFUSE | track::KIND_LIGHT_INTENSITY);
+        if light && self.animated_light_of(target).is_none() {
+            return Err(invalid(Part::Track, at + track::TARGET.start));
+        }
         let fps = f32_at(d, at + track::FPS.start);
         if !(fps.is_finite() && fps > 0.0) || t.key_count() == 0 {
             return Err(invalid(Part::Track, at + track::KEY_COUNT.start));
@@ -237,6 +290,25 @@ impl<'a> Animation<'a> {
             last = frame;
         }
         Ok(keys)
+    }
+
+    /// For a track of `kind` setting components `first..first + count`: how many targets it
+    /// may name (a light kind names a light, which must have an animated light record) and
+    /// whether the components fit; `None` for an unknown kind.
+    fn track_kind(&self, kind: u8, (first, count): (usize, usize)) -> Option<(usize, bool)> {
+        let vector = count >= 1 && first + count <= 3;
+        let scalar = first == 0 && count == 1;
+        let camera = usize::from(self.camera().is_some());
+        Some(match kind {
+            track::KIND_POSITION | track::KIND_ROTATION | track::KIND_SCALING => (self.node_count(), vector),
+            track::KIND_QUATERNION => (self.node_count(), first == 0 && count == 4),
+            track::KIND_INFLUENCE => (self.weight_count(), scalar),
+            track::KIND_CAMERA_POSITION | track::KIND_CAMERA_TARGET | track::KIND_CAMERA_ROTATION => (camera, vector),
+            track::KIND_CAMERA_FOV => (camera, scalar),
+            track::KIND_LIGHT_VECTOR | track::KIND_LIGHT_DIFFUSE => (NONE as usize, vector),
+            track::KIND_LIGHT_INTENSITY => (NONE as usize, scalar),
+            _ => return None,
+        })
     }
 
     fn validate_groups(&self) -> Result<(), ParseError> {
