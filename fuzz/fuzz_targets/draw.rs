@@ -20,8 +20,8 @@ use libfuzzer_sys::arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use soft3d::animation::{pose_memory, Pose, PoseError};
 use soft3d::{
-    Band, Camera, DepthBuffer, DrawOrder, Filter, Fog, FogMode, FrameColor, Lights, Mat4, Mode, Model, NoDepth, RenderOptions,
-    Renderer, Rgb565Be, Scratch, Shading, SortEntry, TransformedVertex, TriangleRows, Vec3, Vec4,
+    Band, Camera, DepthBuffer, DrawOrder, Filter, Fog, FogMode, FrameColor, Lights, Mat4, Mode, Model, NoDepth,
+    RenderOptions, Renderer, Rgb565Be, Scratch, Shading, SortEntry, TransformedVertex, TriangleRows, Vec3, Vec4,
 };
 
 const SEEDS: [&[u8]; 8] = [
@@ -103,7 +103,12 @@ fn options(u: &mut Unstructured<'_>) -> Result<RenderOptions> {
 /// Any fog: every mode, odd densities and ranges (negative, reversed, huge, NaN-free).
 fn fog(u: &mut Unstructured<'_>) -> Result<Fog> {
     let mode = [FogMode::Exp, FogMode::Exp2, FogMode::Linear][u.int_in_range(0..=2)?];
-    Ok(Fog { density: float(u, 10.0)?, start: float(u, 100.0)?, end: float(u, 100.0)?, ..Fog::new(mode, vec3(u, 2.0)?) })
+    Ok(Fog {
+        density: float(u, 10.0)?,
+        start: float(u, 100.0)?,
+        end: float(u, 100.0)?,
+        ..Fog::new(mode, vec3(u, 2.0)?)
+    })
 }
 
 fn lights(u: &mut Unstructured<'_>, model: &Model<'_>) -> Result<Lights<4>> {

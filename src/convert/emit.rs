@@ -301,6 +301,13 @@ pub fn to_scene(model: &Model<'_>) -> Scene {
         .filter_map(|i| model.instance(i))
         .map(|(mesh, world)| scene::InstanceData { mesh: mesh as u16, world: matrix(world) })
         .collect();
+    let (lights, camera, fog) = read_view(model);
+    let animation = emit_animation::read_animation(model);
+    Scene { meshes, materials, textures, instances, lights, camera, animation, fog }
+}
+
+/// A parsed model's lights, camera and fog, as [`to_scene`] gives them back.
+fn read_view(model: &Model<'_>) -> (Vec<scene::LightData>, Option<scene::CameraData>, Option<scene::FogData>) {
     let lights = model
         .lights()
         .map(|l| scene::LightData {
@@ -321,7 +328,6 @@ pub fn to_scene(model: &Model<'_>) -> Scene {
         near: c.near,
         far: c.far,
     });
-    let animation = emit_animation::read_animation(model);
     let fog = model.fog().map(|f| scene::FogData {
         mode: f.mode as u8,
         color: f.color.to_array(),
@@ -329,7 +335,7 @@ pub fn to_scene(model: &Model<'_>) -> Scene {
         start: f.start,
         end: f.end,
     });
-    Scene { meshes, materials, textures, instances, lights, camera, animation, fog }
+    (lights, camera, fog)
 }
 
 /// Writes mesh `m`'s record at `at` and its arrays; its bounding sphere holds `reach` too (the

@@ -100,3 +100,36 @@ fn print_morphs(model: &Model<'_>, a: &Animation<'_>) {
         );
     }
 }
+
+/// The model's lights, fog and camera, a line each.
+pub(crate) fn print_lights_fog_camera(model: &Model<'_>) {
+    for l in model.lights() {
+        println!(
+            "  light {:?} {:?} diffuse {:?} intensity {}",
+            l.kind,
+            l.vector.to_array(),
+            l.diffuse.to_array(),
+            l.intensity
+        );
+    }
+    if let Some(f) = model.fog() {
+        println!(
+            "  fog {:?} colour {:?}, density {}, start {}, end {}",
+            f.mode,
+            f.color.to_array(),
+            f.density,
+            f.start,
+            f.end
+        );
+    }
+    if let Some(c) = model.camera() {
+        println!(
+            "  camera at {:?} looking at {:?}, fov {}, near {}, far {}",
+            c.position.to_array(),
+            c.target.to_array(),
+            c.fov,
+            c.near,
+            c.far
+        );
+    }
+}

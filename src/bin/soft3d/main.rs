@@ -391,35 +391,7 @@ fn cmd_info(input: &Path, conv: &ConvertArgs) -> Result<()> {
         }
     }
     info::print_animation(&model);
-    for l in model.lights() {
-        println!(
-            "  light {:?} {:?} diffuse {:?} intensity {}",
-            l.kind,
-            l.vector.to_array(),
-            l.diffuse.to_array(),
-            l.intensity
-        );
-    }
-    if let Some(f) = model.fog() {
-        println!(
-            "  fog {:?} colour {:?}, density {}, start {}, end {}",
-            f.mode,
-            f.color.to_array(),
-            f.density,
-            f.start,
-            f.end
-        );
-    }
-    if let Some(c) = model.camera() {
-        println!(
-            "  camera at {:?} looking at {:?}, fov {}, near {}, far {}",
-            c.position.to_array(),
-            c.target.to_array(),
-            c.fov,
-            c.near,
-            c.far
-        );
-    }
+    info::print_lights_fog_camera(&model);
     println!(
         "  total: {} meshes, {} instances, {verts} vertices, {tris} triangles, {} materials, {} textures",
         model.mesh_count(),
