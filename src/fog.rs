@@ -16,8 +16,11 @@
 //! its depth (which the span loop has anyway) through the inverse projection: exact, with no
 //! varying to interpolate. Fog applies to filled triangles (not to wireframe lines or points).
 
+#[cfg(feature = "fog")]
 use crate::fixed::Depth30;
-use crate::math::{clamp01, powf, sqrt, Mat4, Vec3, Vec4};
+use crate::math::{clamp01, powf, Vec3};
+#[cfg(feature = "fog")]
+use crate::math::{sqrt, Mat4, Vec4};
 
 /// How fog thickens with distance (numbered as Babylon.js's `Scene.FOGMODE_*`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,6 +101,7 @@ impl Fog {
 
 /// One band's fog at each pixel: [`Fog`] with the map from a pixel's centre and depth to its
 /// view-space position.
+#[cfg(feature = "fog")]
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PixelFog {
     /// `(column, row, depth in Depth30 units, 1)` to homogeneous view space (the inverse
@@ -108,6 +112,7 @@ pub(crate) struct PixelFog {
     color: [u8; 3],
 }
 
+#[cfg(feature = "fog")]
 impl PixelFog {
     /// What a frame seen through `projection` (view to clip space) keeps for `fog`: `fog`
     /// and the inverse projection, `None` when the projection cannot be inverted.
@@ -150,6 +155,7 @@ impl PixelFog {
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[cfg(feature = "fog")]
     use crate::Camera;
 
     fn fog(mode: FogMode) -> Fog {
@@ -168,6 +174,7 @@ mod tests {
         assert_eq!([step.factor(2.0), step.factor(2.5), exp.factor(f32::NAN)], [1.0, 0.0, 0.0]);
     }
 
+    #[cfg(feature = "fog")]
     /// The distance of a pixel is the length of its view-space position: at the image centre
     /// on the far plane it is the far distance; off-centre, longer by the ray's slant.
     #[test]

@@ -4,6 +4,8 @@
 //! Babylon.js's `vFogDistance`) from the pixel's ray through the wall, the factor of the mode,
 //! the colour `f · white + (1 - f) · fog colour`.
 
+#![cfg(feature = "fog")]
+
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use soft3d::convert::{emit, read_babylon, ConvertOptions, EmitOptions};
 use soft3d::{Band, Camera, Fog, FogMode, Lights, Mat4, Model, RenderOptions, Renderer, Scratch, Shading, Vec3};

@@ -14,6 +14,7 @@ use super::varyings::{is_texel_coordinate, PixelLit, VertexLit};
 use super::vertex::{vertex_lit_varyings, VertexLight};
 use super::{Context, Shading, Stats};
 use crate::fixed::{Depth30, FDot16};
+#[cfg(feature = "fog")]
 use crate::fog::PixelFog;
 
 use crate::light::PixelLights;
@@ -42,7 +43,7 @@ pub(super) trait Lighting {
     /// Whether [`Lighting::fog`] can change a colour.
     const FOG: bool = false;
     /// The lit colour `rgb` of the pixel at frame column and row `at` with depth `z`, seen
-    /// through the fog (see [`PixelFog`]); the last step of a fragment.
+    /// through the fog (see `fog::PixelFog`); the last step of a fragment.
     #[inline(always)]
     fn fog(&self, rgb: [u8; 3], _at: (i32, i32), _z: Depth30) -> [u8; 3] {
         rgb
@@ -110,11 +111,13 @@ impl<const L: usize> Lighting for &PixelLights<L> {
 }
 
 /// Another lighting seen through the band's fog ([`PixelFog`]).
+#[cfg(feature = "fog")]
 struct Fogged<Lt> {
     inner: Lt,
     fog: Option<PixelFog>,
 }
 
+#[cfg(feature = "fog")]
 impl<Lt: Lighting> Lighting for Fogged<Lt> {
     #[inline(always)]
     fn light<const V: usize>(&self, v: &[i32; V]) -> [i32; 3] {
@@ -221,6 +224,7 @@ pub(crate) fn variant<C: FrameColor, D: DepthBuffer, const L: usize>(
 ) -> Variant<C, D, L> {
     // Formats that ignore the position take the plain path (the same pixels).
     let dither = ctx.opts.dither && C::DITHERS;
+    #[cfg(feature = "fog")]
     if ctx.frame.fog.is_some() {
         return fogged_variant(surface, lit, dither);
     }
@@ -250,6 +254,7 @@ pub(crate) fn variant<C: FrameColor, D: DepthBuffer, const L: usize>(
     }
 }
 
+#[cfg(feature = "fog")]
 /// [`variant`] with fog: the general span loop (the sampler or the material's colour, light
 /// per channel), each lighting [`Fogged`]; white light is lit as any vertex light is.
 fn fogged_variant<C: FrameColor, D: DepthBuffer, const L: usize>(
@@ -385,8 +390,10 @@ impl<const L: usize> LightOf<L> for PerPixel {
 }
 
 /// [`Fogged`] `Lk`: the band's fog over another lighting.
+#[cfg(feature = "fog")]
 struct FoggedBy<Lk>(core::marker::PhantomData<Lk>);
 
+#[cfg(feature = "fog")]
 impl<const L: usize, Lk: LightOf<L>> LightOf<L> for FoggedBy<Lk> {
     type Lighting<'c> = Fogged<Lk::Lighting<'c>>;
     const TOLERANCE: u32 = Lk::TOLERANCE;

@@ -47,6 +47,7 @@ pub use varyings::{MAX_VARYINGS, VARYING_FRAC};
 
 use crate::animation::Pose;
 use crate::camera::Camera;
+#[cfg(feature = "fog")]
 use crate::fog::{Fog, PixelFog};
 use crate::format::{Material, Mesh, Model, SubMesh};
 use crate::light::{Lights, PixelLights, PreparedLights};
@@ -120,6 +121,8 @@ pub struct RenderOptions {
     /// Fog over filled triangles, per pixel as Babylon.js's standard material computes it (see
     /// [`Fog`]): the scene's is [`Model::fog`](crate::Model::fog); `None` (the default): none.
     /// Fogged triangles take the general span loop (not the assembly of the common variant).
+    /// With feature `fog` (a default one).
+    #[cfg(feature = "fog")]
     pub fog: Option<Fog>,
 }
 
@@ -135,6 +138,7 @@ impl Default for RenderOptions {
             fixed_vertices: false,
             order: DrawOrder::AsStored,
             wire_color: None,
+            #[cfg(feature = "fog")]
             fog: None,
         }
     }
@@ -340,6 +344,7 @@ pub(crate) struct FrameConstants<'l, const L: usize> {
     /// The pose every draw of [`Renderer::draw_posed`] draws with (`None`: the model at rest).
     pub(crate) posed: Option<posed::Posed<'l>>,
     /// The options' fog with the camera's inverse projection (see [`PixelFog::frame`]).
+    #[cfg(feature = "fog")]
     pub(crate) fog: Option<(Fog, Mat4)>,
 }
 
@@ -361,6 +366,7 @@ impl<'l, const L: usize> FrameConstants<'l, L> {
             lit_by_position: lights.specular != Vec3::ZERO
                 || lights.lights.iter().any(|l| l.kind == crate::format::LightKind::Point),
             grey_light: is_grey(lights.ambient) && lights.lights.iter().all(|l| is_grey(l.diffuse)),
+            #[cfg(feature = "fog")]
             fog: opts.fog.and_then(|f| PixelFog::frame(&f, &camera.projection)),
             opts,
             posed: None,
