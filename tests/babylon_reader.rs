@@ -381,6 +381,11 @@ fn parents_can_be_cameras_lights_and_unique_ids() {
         read_text(r#"{"meshes":[{"name":"M","positions":[0,0,0,1,0,0,0,1,0],"parentId":99}]}"#).unwrap();
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(warnings[0].0.contains("parent \"99\" not found"), "{warnings:?}");
+    // An empty `parentId` is no parent (Babylon.js's loader skips it), and no warning.
+    let (scene, warnings) =
+        read_text(r#"{"meshes":[{"name":"M","positions":[0,0,0,1,0,0,0,1,0],"parentId":""}]}"#).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(scene.meshes.len(), 1);
 }
 
 /// Every feature the file has and soft3d does not draw is named, in one warning line each,

@@ -113,6 +113,10 @@ impl<'a> Reader<'a> {
         let Some(id) = text(obj, "parentId").map_err(|m| self.ctx(what).err(m))? else {
             return Ok(None);
         };
+        // An empty id is no parent to Babylon.js (falsy in its loader), not a missing one.
+        if id.is_empty() {
+            return Ok(None);
+        }
         let numeric = get(obj, "parentId").is_some_and(Value::is_number);
         let by_unique = numeric.then(|| self.unique_ids.get(&id).copied()).flatten();
         let found = by_unique.or_else(|| self.ids.get(&id).copied()).or_else(|| self.names.get(&id).copied());
