@@ -74,28 +74,42 @@ keep_frame() {
     fi
 }
 
+# Builds the release firmware for TARGET with FEATURES (may be empty), runs it on MACHINE/CPU
+# (run_firmware) with FRAME and the last frame file removed, and sets COVERED to the covered
+# pixels of its JSON line. A failed run or a missing line sets FAILED, naming WHAT, and returns 1.
+release_run() {
+    local what="$1" target="$2" features="$3" machine="$4" cpu="$5" frame="$6"
+    # Called as `release_run ... || continue`, where `set -e` does not stop the script: checked.
+    if ! (cd "$fw" && cargo build --release --quiet --target "$target" ${features:+--features "$features"}); then
+        echo "FAIL: $what: the firmware does not build" >&2
+        failed=1
+        return 1
+    fi
+    rm -f "$out/qemu-frame.rgb565" "$frame"
+    run_firmware "$fw/target/$target/release/soft3d-qemu" "$machine" "$cpu" 300
+    if [ "$STATUS" -ne 0 ]; then
+        echo "FAIL: $what: QEMU exited with status $STATUS (124 = timed out)" >&2
+        failed=1
+        return 1
+    fi
+    local line
+    line="$(grep -m1 '^{"frame"' <<<"$JSON" || true)"
+    if [ -z "$line" ]; then
+        echo "FAIL: $what: no JSON statistics line" >&2
+        failed=1
+        return 1
+    fi
+    COVERED="$(sed -n 's/.*"covered":\([0-9]*\).*/\1/p' <<<"$line")"
+}
+
 failed=0
 for config in "${configs[@]}"; do
     read -r target machine cpu suffix expected_covered <<<"$config"
     echo "== $target on $machine ($cpu)"
-    (cd "$fw" && cargo build --release --quiet --target "$target")
-    elf="$fw/target/$target/release/soft3d-qemu"
     frame="$out/qemu-frame-$suffix.rgb565"
-    rm -f "$out/qemu-frame.rgb565" "$frame"
-    run_firmware "$elf" "$machine" "$cpu" 300
-    json="$JSON" status="$STATUS"
-    if [ "$status" -ne 0 ]; then
-        echo "FAIL: $target: QEMU exited with status $status (124 = timed out)" >&2
-        failed=1
-        continue
-    fi
-    line="$(grep -m1 '^{"frame"' <<<"$json" || true)"
-    covered="$(sed -n 's/.*"covered":\([0-9]*\).*/\1/p' <<<"$line")"
-    if [ -z "$line" ]; then
-        echo "FAIL: $target: no JSON statistics line" >&2
-        failed=1
-    elif [ "$covered" != "$expected_covered" ]; then
-        echo "FAIL: $target: covered $covered pixels, expected $expected_covered" >&2
+    release_run "$target" "$target" "" "$machine" "$cpu" "$frame" || continue
+    if [ "$COVERED" != "$expected_covered" ]; then
+        echo "FAIL: $target: covered $COVERED pixels, expected $expected_covered" >&2
         failed=1
     fi
     keep_frame "$target" "$frame"
@@ -161,22 +175,9 @@ fi
 for config in "${rabbit_configs[@]}"; do
     read -r target machine cpu suffix _ <<<"$config"
     echo "== rabbit (posed, frame 50), $target on $machine ($cpu)"
-    (cd "$fw" && cargo build --release --quiet --target "$target" --features rabbit)
     frame="$out/qemu-frame-rabbit-$suffix.rgb565"
-    rm -f "$out/qemu-frame.rgb565" "$frame"
-    run_firmware "$fw/target/$target/release/soft3d-qemu" "$machine" "$cpu" 300
-    json="$JSON" status="$STATUS"
-    if [ "$status" -ne 0 ]; then
-        echo "FAIL: rabbit, $target: QEMU exited with status $status (124 = timed out)" >&2
-        failed=1
-        continue
-    fi
-    line="$(grep -m1 '^{"frame"' <<<"$json" || true)"
-    covered="$(sed -n 's/.*"covered":\([0-9]*\).*/\1/p' <<<"$line")"
-    if [ -z "$line" ]; then
-        echo "FAIL: rabbit, $target: no JSON statistics line" >&2
-        failed=1
-    elif [ "${covered:-0}" -eq 0 ]; then
+    release_run "rabbit, $target" "$target" rabbit "$machine" "$cpu" "$frame" || continue
+    if [ "${COVERED:-0}" -eq 0 ]; then
         echo "FAIL: rabbit, $target: the frame covers no pixel" >&2
         failed=1
     fi
